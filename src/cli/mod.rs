@@ -1,0 +1,72 @@
+//! Command-line front end. Each subcommand lives in its own file with its clap arguments and a
+//! `run` function that calls the library and prints. The `Printer` enforces the contract: with
+//! `--json` the machine-readable result goes to stdout and the human summary to stderr.
+
+use clap::{Parser, Subcommand};
+use satqual::Error;
+use std::io::Write;
+
+mod bench;
+mod modal;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "satqual",
+    version,
+    about = "Qualify a preloaded stack of flat satellites: FE modal and response prediction, test-log post-processing, lock-integrity gates and separation dynamics"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Natural frequencies, effective masses and (with static loads) the buckling factor.
+    Modal(modal::Args),
+    /// Work-precision tables: run time against error, written to reports/bench/.
+    Bench(bench::Args),
+}
+
+/// How a command that ran to completion ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Pass,
+    GateFailed,
+}
+
+pub fn run(cli: Cli) -> Result<Outcome, Error> {
+    match cli.command {
+        Command::Modal(a) => modal::run(a),
+        Command::Bench(a) => bench::run(a),
+    }
+}
+
+/// Routes output per the CLI contract.
+pub struct Printer {
+    pub json: bool,
+}
+
+impl Printer {
+    pub fn new(json: bool) -> Self {
+        Printer { json }
+    }
+
+    /// Human-readable text: stdout normally, stderr when `--json` owns stdout.
+    pub fn human(&self, text: &str) {
+        if self.json {
+            let _ = writeln!(std::io::stderr(), "{text}");
+        } else {
+            let _ = writeln!(std::io::stdout(), "{text}");
+        }
+    }
+
+    /// The machine-readable result, printed only with `--json`.
+    pub fn json<T: serde::Serialize>(&self, value: &T) -> Result<(), Error> {
+        if self.json {
+            let s = serde_json::to_string_pretty(value).map_err(|e| Error::Other(e.to_string()))?;
+            let _ = writeln!(std::io::stdout(), "{s}");
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,107 @@
+//! One error type per layer, gathered in [`Error`]. Errors carry the numerical or positional
+//! fact that caused them (a file, line and key; a node and DOF; a pivot), so that the CLI can
+//! print one clear message and exit 2 without a backtrace. A failed gate is not an error.
+
+use std::path::PathBuf;
+
+/// A scene file that cannot be used: where, which key, and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}:{line}:{column}: {}{message}", file.display(), if key.is_empty() { String::new() } else { format!("key `{key}`: ") })]
+pub struct SpecError {
+    pub file: PathBuf,
+    /// 1-based line; 0 when the problem is not tied to one place in the file.
+    pub line: usize,
+    /// 1-based column.
+    pub column: usize,
+    /// Dotted path of the offending key, e.g. `node[2].position_m`.
+    pub key: String,
+    pub message: String,
+}
+
+/// The finite-element model cannot be assembled or solved.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FemError {
+    #[error("the model has no free degree of freedom")]
+    NoFreeDofs,
+    #[error(
+        "the mass matrix is singular on node {node} DOF {dof} ({dof_name}): it carries no mass and is not supported; add a support on it, a mass or inertia, or a beam that gives it mass"
+    )]
+    MasslessDof { node: String, dof: usize, dof_name: &'static str },
+    #[error(
+        "the stiffness matrix is singular: the model is unconstrained or a mechanism near node {node} DOF {dof} ({dof_name}); add supports for a static or buckling solve"
+    )]
+    Unconstrained { node: String, dof: usize, dof_name: &'static str },
+    #[error("rigid link: node {node} is a slave of more than one master, or a master is also a slave")]
+    RigidChain { node: String },
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// The eigen-solution failed or could not prove itself complete.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModalError {
+    #[error("the eigen-solver did not converge: {0}")]
+    NoConvergence(String),
+    #[error(
+        "Sturm check failed: {expected} modes lie below {fmax_hz} Hz (LDLᵀ inertia of K − σM) but the solver returned {found}"
+    )]
+    SturmMismatch { expected: usize, found: usize, fmax_hz: f64 },
+    #[error("no buckling factor: the prestress does not destabilise the structure (K_G has no negative direction)")]
+    NoBuckling,
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Base-excitation response failures.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ResponseError {
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Measured-log ingest and spectral processing failures.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SignalError {
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Separation-dynamics failures.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SeparationError {
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Everything that can go wrong in satqual.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    #[error(transparent)]
+    Fem(#[from] FemError),
+    #[error(transparent)]
+    Modal(#[from] ModalError),
+    #[error(transparent)]
+    Response(#[from] ResponseError),
+    #[error(transparent)]
+    Signal(#[from] SignalError),
+    #[error(transparent)]
+    Separation(#[from] SeparationError),
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{0}")]
+    Other(String),
+}
+
+impl Error {
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io { path: path.into(), source }
+    }
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;

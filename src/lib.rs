@@ -1,0 +1,31 @@
+//! # satqual
+//!
+//! Qualification of a preloaded stack of flat satellites (the four-guide-bar device of
+//! *Design and Analysis of a Compression and Separation Device for Multi-Satellite Deployment*,
+//! Aerospace 2022): predict the shaker-test response with a finite-element model, post-process
+//! the accelerometer logs of the test, gate the hardware, and simulate the in-orbit release.
+//!
+//! Data flow (a module imports only modules to its left, plus `units` and `error`):
+//!
+//! ```text
+//! spec ──> fem ──> modal ──> response ──┐
+//!   │                                   ├──> gates ──> report
+//!   │      signal ──────────────────────┤
+//!   └────> separation ──────────────────┘
+//! ```
+//!
+//! Only [`pipeline`] knows the whole order. Analyses never do I/O; the binary prints and exits.
+
+pub mod error;
+pub mod fem;
+pub mod gates;
+pub mod modal;
+pub mod pipeline;
+pub mod report;
+pub mod response;
+pub mod separation;
+pub mod signal;
+pub mod spec;
+pub mod units;
+
+pub use error::{Error, Result};

@@ -1,0 +1,1 @@
+//! Eigen-solvers and modal results (frequencies, mass-normalised shapes, effective masses).

@@ -1,0 +1,300 @@
+//! Scene files: TOML text -> validated [`Scene`]. Owns the scene contract of DESIGN.md
+//! (unit-suffixed keys, `deny_unknown_fields`) and the mapping of every problem to a file,
+//! line, column and dotted key. Inputs come from the user's scene file only.
+//!
+//! Locations: serde reports byte spans for syntax and type errors; semantic checks report a
+//! dotted key path (`beam[2].orientation`), which [`Locator`] resolves to a line and column
+//! through a span-preserving `toml_edit` parse of the same text.
+
+pub mod model;
+
+pub use model::*;
+
+use crate::error::SpecError;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// The top-level scene table. Each analysis section is optional: an analysis the scene does
+/// not ask for is not run.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Free text shown in reports.
+    #[serde(default)]
+    pub title: Option<String>,
+    #[serde(default)]
+    pub material: Vec<Material>,
+    #[serde(default)]
+    pub section: Vec<Section>,
+    #[serde(default)]
+    pub node: Vec<Node>,
+    #[serde(default)]
+    pub beam: Vec<Beam>,
+    #[serde(default)]
+    pub mass: Vec<Mass>,
+    #[serde(default)]
+    pub rigid: Vec<Rigid>,
+    #[serde(default)]
+    pub spring: Vec<Spring>,
+    #[serde(default)]
+    pub support: Vec<Support>,
+    #[serde(default)]
+    pub static_load: Vec<StaticLoad>,
+    #[serde(default)]
+    pub modal: Option<ModalSpec>,
+}
+
+/// A loaded and validated scene, with its source kept for error locations and provenance.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub path: PathBuf,
+    pub text: String,
+    pub file: SceneFile,
+}
+
+impl Scene {
+    /// Reads and validates a scene file.
+    pub fn load(path: &Path) -> Result<Scene, crate::Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| crate::Error::io(path, e))?;
+        Ok(Scene::parse(path, &text)?)
+    }
+
+    /// Parses and validates scene text; `path` is used in messages and for relative paths.
+    pub fn parse(path: &Path, text: &str) -> Result<Scene, SpecError> {
+        let loc = Locator::new(path, text)?;
+        loc.check_finite()?;
+        let file: SceneFile = toml::from_str(text).map_err(|e| loc.from_toml(&e))?;
+        model::validate(&file, &loc)?;
+        Ok(Scene { path: path.to_path_buf(), text: text.to_string(), file })
+    }
+
+    /// A locator for errors found after loading (e.g. a massless DOF at a node).
+    pub fn locator(&self) -> Locator {
+        Locator::new(&self.path, &self.text).expect("scene text parsed once already")
+    }
+
+    /// A short name for reports: the file stem.
+    pub fn name(&self) -> String {
+        self.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
+    }
+}
+
+/// Resolves dotted key paths and byte offsets of one scene text to lines and columns.
+pub struct Locator {
+    path: PathBuf,
+    text: String,
+    doc: toml_edit::Document<String>,
+}
+
+impl Locator {
+    pub fn new(path: &Path, text: &str) -> Result<Locator, SpecError> {
+        let doc = toml_edit::Document::parse(text.to_string()).map_err(|e| {
+            let (line, column) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
+            SpecError {
+                file: path.to_path_buf(),
+                line,
+                column,
+                key: String::new(),
+                message: format!("invalid TOML: {}", e.message().trim()),
+            }
+        })?;
+        Ok(Locator { path: path.to_path_buf(), text: text.to_string(), doc })
+    }
+
+    /// An error at the key `path` (dotted, with `[i]` indices), located in the file.
+    pub fn err(&self, key: &str, message: impl Into<String>) -> SpecError {
+        let (line, column) = self.find(key).unwrap_or((0, 0));
+        SpecError { file: self.path.clone(), line, column, key: key.to_string(), message: message.into() }
+    }
+
+    fn from_toml(&self, e: &toml::de::Error) -> SpecError {
+        let span = e.span();
+        let (line, column) = span.as_ref().map(|s| line_col(&self.text, s.start)).unwrap_or((0, 0));
+        let key = span.map(|s| self.path_at(s.start)).unwrap_or_default();
+        SpecError {
+            file: self.path.clone(),
+            line,
+            column,
+            key,
+            message: e.message().trim().replace('\n', " "),
+        }
+    }
+
+    /// Line and column of the key named by a dotted path, or of the nearest existing parent.
+    pub fn find(&self, key: &str) -> Option<(usize, usize)> {
+        // Errors are rare: cloning sub-items keeps this simple and borrow-free.
+        let mut item: toml_edit::Item = self.doc.as_item().clone();
+        let mut best: Option<std::ops::Range<usize>> = None;
+        for (name, index) in split_path(key) {
+            let next = {
+                let Some(table) = item.as_table_like() else { break };
+                let Some((k, v)) = table.get_key_value(&name) else { break };
+                best = k.span().or_else(|| v.span()).or(best);
+                v.clone()
+            };
+            item = next;
+            if let Some(i) = index {
+                let next = if let Some(aot) = item.as_array_of_tables() {
+                    aot.get(i).map(|t| {
+                        best = t.span().or(best.clone());
+                        toml_edit::Item::Table(t.clone())
+                    })
+                } else if let Some(arr) = item.as_array() {
+                    arr.get(i).map(|v| {
+                        best = v.span().or(best.clone());
+                        toml_edit::Item::Value(v.clone())
+                    })
+                } else {
+                    None
+                };
+                match next {
+                    Some(n) => item = n,
+                    None => break,
+                }
+            }
+        }
+        best.map(|s| line_col(&self.text, s.start))
+    }
+
+    /// The dotted path of the deepest key whose key or value span holds `offset`.
+    fn path_at(&self, offset: usize) -> String {
+        fn walk(item: &toml_edit::Item, offset: usize, prefix: String, out: &mut String) {
+            match item {
+                toml_edit::Item::Table(t) => {
+                    for (k, v) in t.iter() {
+                        let key = t.key(k).and_then(|k| k.span());
+                        let p = if prefix.is_empty() { k.to_string() } else { format!("{prefix}.{k}") };
+                        let inside = key.as_ref().is_some_and(|s| s.contains(&offset))
+                            || v.span().is_some_and(|s| s.contains(&offset));
+                        if inside {
+                            *out = p.clone();
+                        }
+                        walk(v, offset, p, out);
+                    }
+                }
+                toml_edit::Item::ArrayOfTables(a) => {
+                    for (i, t) in a.iter().enumerate() {
+                        let p = format!("{prefix}[{i}]");
+                        if t.span().is_some_and(|s| s.contains(&offset)) {
+                            *out = p.clone();
+                        }
+                        walk(&toml_edit::Item::Table(t.clone()), offset, p, out);
+                    }
+                }
+                toml_edit::Item::Value(toml_edit::Value::InlineTable(t)) => {
+                    for (k, v) in t.iter() {
+                        let p = format!("{prefix}.{k}");
+                        if v.span().is_some_and(|s| s.contains(&offset)) {
+                            *out = p.clone();
+                        }
+                        walk(&toml_edit::Item::Value(v.clone()), offset, p, out);
+                    }
+                }
+                _ => {}
+            }
+        }
+        let mut out = String::new();
+        walk(self.doc.as_item(), offset, String::new(), &mut out);
+        // A `[[table]]` span covers only its header; attribute later offsets to the last
+        // array-of-tables entry that starts before the offset.
+        if out.is_empty() {
+            out = self.last_table_before(offset);
+        }
+        out
+    }
+
+    fn last_table_before(&self, offset: usize) -> String {
+        let mut best: (usize, String) = (0, String::new());
+        for (k, v) in self.doc.iter() {
+            if let Some(a) = v.as_array_of_tables() {
+                for (i, t) in a.iter().enumerate() {
+                    if let Some(s) = t.span() {
+                        if s.start <= offset && s.start >= best.0 {
+                            best = (s.start, format!("{k}[{i}]"));
+                        }
+                    }
+                }
+            } else if let Some(t) = v.as_table() {
+                if let Some(s) = t.span() {
+                    if s.start <= offset && s.start >= best.0 {
+                        best = (s.start, k.to_string());
+                    }
+                }
+            }
+        }
+        best.1
+    }
+
+    /// TOML accepts `nan` and `inf`; a scene never means them. Reject every non-finite float,
+    /// wherever it stands.
+    fn check_finite(&self) -> Result<(), SpecError> {
+        fn walk(item: &toml_edit::Item, path: String, loc: &Locator) -> Result<(), SpecError> {
+            match item {
+                toml_edit::Item::Table(t) => {
+                    for (k, v) in t.iter() {
+                        let p = if path.is_empty() { k.to_string() } else { format!("{path}.{k}") };
+                        walk(v, p, loc)?;
+                    }
+                }
+                toml_edit::Item::ArrayOfTables(a) => {
+                    for (i, t) in a.iter().enumerate() {
+                        walk(&toml_edit::Item::Table(t.clone()), format!("{path}[{i}]"), loc)?;
+                    }
+                }
+                toml_edit::Item::Value(v) => value(v, path, loc)?,
+                toml_edit::Item::None => {}
+            }
+            Ok(())
+        }
+        fn value(v: &toml_edit::Value, path: String, loc: &Locator) -> Result<(), SpecError> {
+            match v {
+                toml_edit::Value::Float(f) if !f.value().is_finite() => {
+                    let (line, column) = v.span().map(|s| line_col(&loc.text, s.start)).unwrap_or((0, 0));
+                    return Err(SpecError {
+                        file: loc.path.clone(),
+                        line,
+                        column,
+                        key: path,
+                        message: format!("the value {} is not a finite number", f.value()),
+                    });
+                }
+                toml_edit::Value::Array(a) => {
+                    for (i, x) in a.iter().enumerate() {
+                        value(x, format!("{path}[{i}]"), loc)?;
+                    }
+                }
+                toml_edit::Value::InlineTable(t) => {
+                    for (k, x) in t.iter() {
+                        value(x, format!("{path}.{k}"), loc)?;
+                    }
+                }
+                _ => {}
+            }
+            Ok(())
+        }
+        walk(self.doc.as_item(), String::new(), self)
+    }
+}
+
+/// Splits `a.b[2].c` into `[("a", None), ("b", Some(2)), ("c", None)]`.
+fn split_path(key: &str) -> Vec<(String, Option<usize>)> {
+    key.split('.')
+        .filter(|s| !s.is_empty())
+        .map(|part| match part.find('[') {
+            Some(i) => {
+                let idx = part[i + 1..].trim_end_matches(']').parse().ok();
+                (part[..i].to_string(), idx)
+            }
+            None => (part.to_string(), None),
+        })
+        .collect()
+}
+
+/// 1-based line and column (in characters) of a byte offset.
+pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let offset = offset.min(text.len());
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map(|s| s.chars().count()).unwrap_or(0) + 1;
+    (line, col)
+}

@@ -1,0 +1,377 @@
+//! The generic model of the scene contract (DESIGN.md §Scene files): materials, sections, nodes,
+//! beams, masses, rigid links, springs, supports, static loads and the `[modal]` request, plus
+//! the checks that make a model well-posed before the FE layer sees it.
+
+use super::Locator;
+use crate::error::SpecError;
+use serde::{Deserialize, Serialize};
+use std::collections::{HashMap, HashSet};
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    pub name: String,
+    pub youngs_modulus_pa: f64,
+    pub poisson_ratio: f64,
+    pub density_kg_m3: f64,
+    /// Tensile yield strength, for strength gates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yield_strength_pa: Option<f64>,
+    /// Ultimate tensile strength, for strength gates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ultimate_strength_pa: Option<f64>,
+}
+
+impl Material {
+    pub fn shear_modulus_pa(&self) -> f64 {
+        self.youngs_modulus_pa / (2.0 * (1.0 + self.poisson_ratio))
+    }
+}
+
+/// A cross-section. `shape` selects which dimension keys apply; the others must be absent.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Section {
+    pub name: String,
+    /// rectangle | circle | tube | general
+    pub shape: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub diameter_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outer_diameter_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inner_diameter_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub area_m2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub iy_m4: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub iz_m4: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub j_m4: Option<f64>,
+    /// Timoshenko shear factor of a `general` section (both planes). Absent: shear-rigid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_factor: Option<f64>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Node {
+    pub id: i64,
+    pub position_m: [f64; 3],
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Theory {
+    #[default]
+    Timoshenko,
+    EulerBernoulli,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Beam {
+    /// Optional member name, used for load recovery and reports.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    pub nodes: [i64; 2],
+    pub section: String,
+    pub material: String,
+    /// Subdivisions between the two nodes.
+    #[serde(default = "one")]
+    pub elements: usize,
+    /// Vector in the local x–z plane (OpenSees `vecxz`). Default: global z, or global y
+    /// for a beam along z.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<[f64; 3]>,
+    #[serde(default)]
+    pub theory: Theory,
+}
+
+fn one() -> usize {
+    1
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Mass {
+    pub node: i64,
+    pub mass_kg: f64,
+    /// About the mass's own centre, principal axes along global x, y, z.
+    #[serde(default)]
+    pub inertia_kg_m2: [f64; 3],
+    /// The mass sits rigidly at node position + offset.
+    #[serde(default)]
+    pub offset_m: [f64; 3],
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Rigid {
+    pub master: i64,
+    pub slaves: Vec<i64>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Spring {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    pub nodes: [i64; 2],
+    /// N/m and N·m/rad in global x, y, z, rx, ry, rz.
+    pub stiffness: [f64; 6],
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Support {
+    pub node: i64,
+    /// Fixed DOFs as digits: 1-3 translations, 4-6 rotations (global).
+    pub dofs: String,
+}
+
+impl Support {
+    /// The fixed DOF indices 0..6.
+    pub fn dof_indices(&self) -> Vec<usize> {
+        self.dofs.chars().filter_map(|c| c.to_digit(10)).map(|d| d as usize - 1).collect()
+    }
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StaticLoad {
+    pub node: i64,
+    #[serde(default)]
+    pub force_n: [f64; 3],
+    #[serde(default)]
+    pub moment_n_m: [f64; 3],
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum SolverChoice {
+    /// Dense below a size threshold, sparse shift-invert Lanczos above it.
+    #[default]
+    Auto,
+    Dense,
+    Sparse,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct ModalSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fmax_hz: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modes: Option<usize>,
+    #[serde(default)]
+    pub solver: SolverChoice,
+}
+
+/// Checks references, uniqueness, positivity and geometry of the generic model.
+pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
+    let mut materials = HashSet::new();
+    for (i, m) in f.material.iter().enumerate() {
+        let k = |s: &str| format!("material[{i}].{s}");
+        if !materials.insert(m.name.as_str()) {
+            return Err(loc.err(&k("name"), format!("duplicate material name `{}`", m.name)));
+        }
+        positive(loc, &k("youngs_modulus_pa"), m.youngs_modulus_pa)?;
+        positive(loc, &k("density_kg_m3"), m.density_kg_m3)?;
+        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
+            return Err(loc.err(&k("poisson_ratio"), format!("must lie in (-1, 0.5), got {}", m.poisson_ratio)));
+        }
+        if let Some(v) = m.yield_strength_pa {
+            positive(loc, &k("yield_strength_pa"), v)?;
+        }
+        if let Some(v) = m.ultimate_strength_pa {
+            positive(loc, &k("ultimate_strength_pa"), v)?;
+        }
+    }
+    let mut sections = HashSet::new();
+    for (i, s) in f.section.iter().enumerate() {
+        if !sections.insert(s.name.as_str()) {
+            return Err(loc.err(&format!("section[{i}].name"), format!("duplicate section name `{}`", s.name)));
+        }
+        validate_section(s, i, loc)?;
+    }
+    let mut nodes: HashMap<i64, [f64; 3]> = HashMap::new();
+    for (i, n) in f.node.iter().enumerate() {
+        if nodes.insert(n.id, n.position_m).is_some() {
+            return Err(loc.err(&format!("node[{i}].id"), format!("duplicate node id {}", n.id)));
+        }
+    }
+    let node_ref = |key: String, id: i64| -> Result<[f64; 3], SpecError> {
+        nodes.get(&id).copied().ok_or_else(|| loc.err(&key, format!("node {id} is not defined")))
+    };
+    for (i, b) in f.beam.iter().enumerate() {
+        let k = |s: &str| format!("beam[{i}].{s}");
+        let a = node_ref(k("nodes"), b.nodes[0])?;
+        let c = node_ref(k("nodes"), b.nodes[1])?;
+        if !sections.contains(b.section.as_str()) {
+            return Err(loc.err(&k("section"), format!("section `{}` is not defined", b.section)));
+        }
+        if !materials.contains(b.material.as_str()) {
+            return Err(loc.err(&k("material"), format!("material `{}` is not defined", b.material)));
+        }
+        if b.elements == 0 {
+            return Err(loc.err(&k("elements"), "must be at least 1"));
+        }
+        let axis = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let len = norm(axis);
+        let scale = norm(a).max(norm(c)).max(1.0);
+        if len <= 1e-12 * scale {
+            return Err(loc.err(
+                &k("nodes"),
+                format!("the beam's nodes {} and {} coincide: a beam needs a length", b.nodes[0], b.nodes[1]),
+            ));
+        }
+        if let Some(o) = b.orientation {
+            let on = norm(o);
+            if on == 0.0 {
+                return Err(loc.err(&k("orientation"), "the orientation vector is zero"));
+            }
+            let cross = [
+                axis[1] * o[2] - axis[2] * o[1],
+                axis[2] * o[0] - axis[0] * o[2],
+                axis[0] * o[1] - axis[1] * o[0],
+            ];
+            if norm(cross) <= 1e-6 * len * on {
+                return Err(loc.err(
+                    &k("orientation"),
+                    "the orientation vector is parallel to the beam axis: it must define the local x-z plane",
+                ));
+            }
+        }
+    }
+    for (i, m) in f.mass.iter().enumerate() {
+        node_ref(format!("mass[{i}].node"), m.node)?;
+        nonneg(loc, &format!("mass[{i}].mass_kg"), m.mass_kg)?;
+        for (j, v) in m.inertia_kg_m2.iter().enumerate() {
+            nonneg(loc, &format!("mass[{i}].inertia_kg_m2[{j}]"), *v)?;
+        }
+    }
+    let mut slaves_seen = HashSet::new();
+    for (i, r) in f.rigid.iter().enumerate() {
+        node_ref(format!("rigid[{i}].master"), r.master)?;
+        for (j, s) in r.slaves.iter().enumerate() {
+            node_ref(format!("rigid[{i}].slaves[{j}]"), *s)?;
+            if *s == r.master {
+                return Err(loc.err(&format!("rigid[{i}].slaves[{j}]"), "a node cannot be its own slave"));
+            }
+            if !slaves_seen.insert(*s) {
+                return Err(loc.err(
+                    &format!("rigid[{i}].slaves[{j}]"),
+                    format!("node {s} is already a slave of another rigid link"),
+                ));
+            }
+        }
+    }
+    for (i, r) in f.rigid.iter().enumerate() {
+        if slaves_seen.contains(&r.master) {
+            return Err(loc.err(
+                &format!("rigid[{i}].master"),
+                format!("master node {} is a slave of another rigid link; chain links through one master", r.master),
+            ));
+        }
+    }
+    for (i, s) in f.spring.iter().enumerate() {
+        node_ref(format!("spring[{i}].nodes"), s.nodes[0])?;
+        node_ref(format!("spring[{i}].nodes"), s.nodes[1])?;
+        if s.nodes[0] == s.nodes[1] {
+            return Err(loc.err(&format!("spring[{i}].nodes"), "a spring needs two different nodes"));
+        }
+        for (j, v) in s.stiffness.iter().enumerate() {
+            nonneg(loc, &format!("spring[{i}].stiffness[{j}]"), *v)?;
+        }
+    }
+    for (i, s) in f.support.iter().enumerate() {
+        node_ref(format!("support[{i}].node"), s.node)?;
+        if s.dofs.is_empty() || !s.dofs.chars().all(|c| ('1'..='6').contains(&c)) {
+            return Err(loc.err(
+                &format!("support[{i}].dofs"),
+                format!("`{}` is not a DOF list: use digits 1-6 (1-3 translations, 4-6 rotations)", s.dofs),
+            ));
+        }
+    }
+    for (i, l) in f.static_load.iter().enumerate() {
+        node_ref(format!("static_load[{i}].node"), l.node)?;
+    }
+    if let Some(m) = &f.modal {
+        match (m.fmax_hz, m.modes) {
+            (Some(_), Some(_)) => return Err(loc.err("modal", "give either `fmax_hz` or `modes`, not both")),
+            (Some(fm), None) => positive(loc, "modal.fmax_hz", fm)?,
+            (None, Some(0)) => return Err(loc.err("modal.modes", "must be at least 1")),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+fn validate_section(s: &Section, i: usize, loc: &Locator) -> Result<(), SpecError> {
+    let k = |n: &str| format!("section[{i}].{n}");
+    let all: [(&str, Option<f64>); 10] = [
+        ("width_m", s.width_m),
+        ("height_m", s.height_m),
+        ("diameter_m", s.diameter_m),
+        ("outer_diameter_m", s.outer_diameter_m),
+        ("inner_diameter_m", s.inner_diameter_m),
+        ("area_m2", s.area_m2),
+        ("iy_m4", s.iy_m4),
+        ("iz_m4", s.iz_m4),
+        ("j_m4", s.j_m4),
+        ("shear_factor", s.shear_factor),
+    ];
+    let (required, optional): (&[&str], &[&str]) = match s.shape.as_str() {
+        "rectangle" => (&["width_m", "height_m"], &[]),
+        "circle" => (&["diameter_m"], &[]),
+        "tube" => (&["outer_diameter_m", "inner_diameter_m"], &[]),
+        "general" => (&["area_m2", "iy_m4", "iz_m4", "j_m4"], &["shear_factor"]),
+        other => {
+            return Err(loc.err(
+                &k("shape"),
+                format!("unknown shape `{other}`: use rectangle, circle, tube or general"),
+            ));
+        }
+    };
+    for (name, v) in all {
+        match v {
+            Some(x) => {
+                if !required.contains(&name) && !optional.contains(&name) {
+                    return Err(loc.err(&k(name), format!("does not apply to a {} section", s.shape)));
+                }
+                positive(loc, &k(name), x)?;
+            }
+            None if required.contains(&name) => {
+                return Err(loc.err(&k("shape"), format!("a {} section needs `{name}`", s.shape)));
+            }
+            None => {}
+        }
+    }
+    if let (Some(o), Some(inner)) = (s.outer_diameter_m, s.inner_diameter_m) {
+        if inner >= o {
+            return Err(loc.err(
+                &k("inner_diameter_m"),
+                format!("the inner diameter {inner} m must be smaller than the outer diameter {o} m"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn positive(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
+    if v > 0.0 { Ok(()) } else { Err(loc.err(key, format!("must be positive, got {v}"))) }
+}
+
+fn nonneg(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
+    if v >= 0.0 { Ok(()) } else { Err(loc.err(key, format!("must not be negative, got {v}"))) }
+}
+
+pub(crate) fn norm(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
