@@ -7,8 +7,10 @@
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod model;
+pub mod stack;
 
 pub use model::*;
+pub use stack::{InterfaceSpec, StackSpec};
 
 use crate::error::SpecError;
 use serde::Deserialize;
@@ -42,6 +44,9 @@ pub struct SceneFile {
     pub static_load: Vec<StaticLoad>,
     #[serde(default)]
     pub modal: Option<ModalSpec>,
+    /// A parametric stack, expanded into the generic model (issue: the preloaded stack).
+    #[serde(default)]
+    pub stack: Option<StackSpec>,
 }
 
 /// A loaded and validated scene, with its source kept for error locations and provenance.
