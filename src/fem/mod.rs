@@ -1,2 +1,6 @@
 //! Finite-element model: beam, mass, spring and rigid-link elements, assembly, supports and
 //! prestress (geometric stiffness). Input: a validated generic model from `spec`.
+
+pub mod bar;
+
+pub use bar::{BarModes, cantilever_bar_modes};
