@@ -1,8 +1,11 @@
-//! `satqual modal`: natural frequencies and effective masses of a scene.
+//! `satqual modal`: natural frequencies, effective masses and, when the scene has static
+//! loads, the prestress and buckling factor. Optional export of K, M, K_G and the DOF map.
 
-use super::Outcome;
+use super::{Outcome, Printer};
 use satqual::Error;
-use std::path::PathBuf;
+use satqual::fem::model::{Reduction, Triplets};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -17,12 +20,98 @@ pub struct Args {
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
-    /// Write K, M, K_G (Matrix Market) and the DOF map (CSV) to this folder.
+    /// Write K, M, K_G (Matrix Market, reduced DOFs) and the DOF map (CSV) to this folder.
     #[arg(long)]
     pub export_matrices: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
-    let _scene = satqual::spec::Scene::load(&args.scene)?;
+    if let Some(f) = args.fmax {
+        if !(f > 0.0 && f.is_finite()) {
+            return Err(Error::Other(format!("--fmax must be a positive frequency in Hz, got {f}")));
+        }
+    }
+    let scene = satqual::spec::Scene::load(&args.scene)?;
+    let (model, sys) = satqual::pipeline::modal(&scene, args.fmax, args.modes)?;
+    let p = Printer::new(args.json);
+    let r = &sys.result;
+    let mut t = String::new();
+    let _ = writeln!(t, "{}: {} DOFs, total mass {:.6} kg, solver {}", args.scene.display(), r.dofs, r.total_mass_kg, r.solver);
+    let _ = writeln!(
+        t,
+        "{:>5} {:>12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7}",
+        "mode", "freq [Hz]", "x", "y", "z", "rx", "ry", "rz"
+    );
+    let mut sum = [0.0; 6];
+    for m in &r.modes {
+        let f = m.effective_mass_fraction.to_array();
+        for a in 0..6 {
+            sum[a] += f[a];
+        }
+        let _ = writeln!(
+            t,
+            "{:>5} {:>12.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4}",
+            m.index, m.frequency_hz, f[0], f[1], f[2], f[3], f[4], f[5]
+        );
+    }
+    let _ = writeln!(
+        t,
+        "{:>5} {:>12} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4}   (effective-mass fractions)",
+        "sum", "", sum[0], sum[1], sum[2], sum[3], sum[4], sum[5]
+    );
+    if let Some(ps) = &r.prestress {
+        match ps.buckling_factor {
+            Some(l) => {
+                let _ = writeln!(t, "prestress: buckling factor {l:.6} (margin {:+.1}%)", (l - 1.0) * 100.0);
+            }
+            None => {
+                let _ = writeln!(t, "prestress: no buckling (the prestress stiffens the structure everywhere)");
+            }
+        }
+    }
+    p.human(t.trim_end());
+    p.json(r)?;
+    if let Some(dir) = &args.export_matrices {
+        export(dir, &model, &sys.reduction, &sys)?;
+        p.human(&format!("matrices written to {}", dir.display()));
+    }
     Ok(Outcome::Pass)
+}
+
+fn export(dir: &Path, model: &satqual::fem::FeModel, red: &Reduction, sys: &satqual::modal::ModalSystem) -> Result<(), Error> {
+    let k = red.reduce(&model.stiffness());
+    satqual::report::write_atomic(&dir.join("K.mtx"), matrix_market(red.n_red, &k).as_bytes())?;
+    satqual::report::write_atomic(&dir.join("M.mtx"), matrix_market(red.n_red, &sys.m).as_bytes())?;
+    if let Some(ps) = &sys.result.prestress {
+        let kg = red.reduce(&model.geometric_stiffness(&ps.element_axial_n));
+        satqual::report::write_atomic(&dir.join("KG.mtx"), matrix_market(red.n_red, &kg).as_bytes())?;
+    }
+    let mut csv = String::from("index,node,node_id,dof\n");
+    for (i, &f) in red.reduction_dofs().iter().enumerate() {
+        let (label, dof, _) = model.dof_label(f);
+        let id = model.nodes[f / 6].id.map(|v| v.to_string()).unwrap_or_default();
+        let _ = writeln!(csv, "{},\"{}\",{},{}", i, label, id, dof);
+    }
+    satqual::report::write_atomic(&dir.join("dofs.csv"), csv.as_bytes())
+}
+
+/// Matrix Market coordinate format, lower triangle of a symmetric matrix, duplicates summed.
+fn matrix_market(n: usize, t: &Triplets) -> String {
+    let mut e: Vec<(usize, usize, f64)> = t.iter().filter(|x| x.0 >= x.1).copied().collect();
+    e.sort_by(|a, b| (a.1, a.0).cmp(&(b.1, b.0)));
+    let mut merged: Vec<(usize, usize, f64)> = Vec::with_capacity(e.len());
+    for (i, j, v) in e {
+        match merged.last_mut() {
+            Some(l) if l.0 == i && l.1 == j => l.2 += v,
+            _ => merged.push((i, j, v)),
+        }
+    }
+    merged.retain(|x| x.2 != 0.0);
+    let mut s = String::with_capacity(merged.len() * 40);
+    s.push_str("%%MatrixMarket matrix coordinate real symmetric\n% written by satqual: reduced DOFs (see dofs.csv)\n");
+    let _ = writeln!(s, "{n} {n} {}", merged.len());
+    for (i, j, v) in merged {
+        let _ = writeln!(s, "{} {} {:.17e}", i + 1, j + 1, v);
+    }
+    s
 }

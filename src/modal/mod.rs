@@ -1,1 +1,343 @@
-//! Eigen-solvers and modal results (frequencies, mass-normalised shapes, effective masses).
+//! Modal analysis of an assembled FE model: prestress (static solve -> axial forces -> K_G),
+//! the linear buckling factor, the eigen-solve, and the modal quantities an engineer reads:
+//! frequencies, mass-normalised shapes with a fixed sign, participation factors and effective
+//! masses for the six rigid-body directions about the model's centre of mass.
+//! Input: a `fem::FeModel`; the solver is dense (faer) here, sparse shift-invert for large models.
+
+pub mod dense;
+
+use crate::error::{FemError, ModalError};
+use crate::fem::model::{FeModel, Reduction, Triplets, dense as to_dense};
+use crate::spec::SolverChoice;
+use serde::Serialize;
+
+/// What to extract.
+#[derive(Debug, Clone, Default)]
+pub struct ModalOptions {
+    pub fmax_hz: Option<f64>,
+    pub modes: Option<usize>,
+    pub solver: SolverChoice,
+}
+
+/// Six rigid-body directions, in the order x, y, z, rx, ry, rz.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq, Default)]
+pub struct Dir6 {
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+    pub rx: f64,
+    pub ry: f64,
+    pub rz: f64,
+}
+
+impl Dir6 {
+    pub fn from_array(a: [f64; 6]) -> Dir6 {
+        Dir6 { x: a[0], y: a[1], z: a[2], rx: a[3], ry: a[4], rz: a[5] }
+    }
+    pub fn to_array(self) -> [f64; 6] {
+        [self.x, self.y, self.z, self.rx, self.ry, self.rz]
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Mode {
+    /// 1-based.
+    pub index: usize,
+    pub frequency_hz: f64,
+    /// Γ = φᵀ·M·D for the rigid-body vectors D about the centre of mass.
+    pub participation: Dir6,
+    /// Γ² (kg for translations, kg·m² for rotations).
+    pub effective_mass: Dir6,
+    /// Γ² over the total mass (translations) or total inertia about the CM (rotations).
+    pub effective_mass_fraction: Dir6,
+    /// Mass-normalised shape over the reduced DOFs; the largest component is positive.
+    #[serde(skip)]
+    pub shape: Vec<f64>,
+    #[serde(skip)]
+    pub eigenvalue: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct MemberForce {
+    pub name: String,
+    /// Axial force at the member's first element, tension positive, N.
+    pub axial_force_n: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PrestressSummary {
+    /// Smallest λ with (K + λ·K_G)·φ = 0: the static loads may be multiplied by λ before the
+    /// structure buckles. `None` when the prestress does not destabilise it.
+    pub buckling_factor: Option<f64>,
+    pub members: Vec<MemberForce>,
+    /// Axial force of every element, tension positive, N.
+    #[serde(skip)]
+    pub element_axial_n: Vec<f64>,
+    /// Static displacement in the full DOF space.
+    #[serde(skip)]
+    pub displacement: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ModalResult {
+    pub total_mass_kg: f64,
+    pub center_of_mass_m: [f64; 3],
+    /// Diagonal of Dᵀ·M·D over the free DOFs: what the effective masses of all modes sum to.
+    pub rigid_body_mass: Dir6,
+    /// Diagonal of Dᵀ·M·D over all DOFs (supported ones included).
+    pub total_rigid_body_mass: Dir6,
+    pub dofs: usize,
+    pub solver: String,
+    pub modes: Vec<Mode>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub prestress: Option<PrestressSummary>,
+}
+
+/// The pieces of a modal solve that later analyses (response, load recovery) reuse.
+#[derive(Debug, Clone)]
+pub struct ModalSystem {
+    pub reduction: Reduction,
+    /// Reduced stiffness including K_G when prestressed.
+    pub k: Triplets,
+    pub m: Triplets,
+    pub result: ModalResult,
+}
+
+fn dof_err(model: &FeModel, red: &Reduction, index: usize, massless: bool) -> FemError {
+    let (node, dof, dof_name) = model.dof_label(red.red_to_full[index]);
+    if massless { FemError::MasslessDof { node, dof, dof_name } } else { FemError::Unconstrained { node, dof, dof_name } }
+}
+
+/// Runs the prestress and the eigen-solve.
+pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crate::Error> {
+    let red = model.reduction()?;
+    if red.n_red == 0 {
+        return Err(FemError::NoFreeDofs.into());
+    }
+    let k_full = model.stiffness();
+    let m_full = model.mass();
+    let k0 = red.reduce(&k_full);
+    let m = red.reduce(&m_full);
+    // A DOF with no mass at all cannot be in a generalized eigenproblem with positive M.
+    let mut diag = vec![0.0; red.n_red];
+    for &(i, j, v) in &m {
+        if i == j {
+            diag[i] += v;
+        }
+    }
+    let scale = diag.iter().copied().fold(0.0, f64::max);
+    if let Some(i) = diag.iter().position(|&d| d <= 1e-14 * scale) {
+        return Err(dof_err(model, &red, i, true).into());
+    }
+
+    let loads = model.load_vector();
+    let prestressed = loads.iter().any(|&f| f != 0.0);
+    let mut k = k0.clone();
+    let mut prestress = None;
+    if prestressed {
+        let kd = to_dense(red.n_red, &k0);
+        let f = red.reduce_vec(&loads);
+        let u_red = dense::solve_spd(&kd, &f).map_err(|e| match e {
+            dense::DenseError::NotPositiveDefinite { index } => crate::Error::from(dof_err(model, &red, index, false)),
+            dense::DenseError::NoConvergence => ModalError::NoConvergence("static solve".into()).into(),
+        })?;
+        let u = red.expand(&u_red);
+        let axial = element_axial_forces(model, &u);
+        let kg = red.reduce(&model.geometric_stiffness(&axial));
+        let kgd = to_dense(red.n_red, &kg);
+        let lambda = dense::buckling_factor(&kd, &kgd).map_err(|_| ModalError::NoConvergence("buckling".into()))?;
+        let mut members: Vec<MemberForce> = Vec::new();
+        for (e, b) in model.beams.iter().enumerate() {
+            if members.len() <= b.member {
+                members.push(MemberForce { name: model.member_names[b.member].clone(), axial_force_n: axial[e] });
+            }
+        }
+        k.extend(kg);
+        prestress = Some(PrestressSummary {
+            buckling_factor: lambda,
+            members,
+            element_axial_n: axial,
+            displacement: u,
+        });
+    }
+
+    let kd = to_dense(red.n_red, &k);
+    let md = to_dense(red.n_red, &m);
+    let (lambda, phi) = dense::generalized(&kd, &md).map_err(|e| match e {
+        dense::DenseError::NotPositiveDefinite { index } => crate::Error::from(dof_err(model, &red, index, true)),
+        dense::DenseError::NoConvergence => ModalError::NoConvergence("dense eigen-solve".into()).into(),
+    })?;
+
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let mut keep = lambda.len();
+    if let Some(n) = opts.modes {
+        keep = keep.min(n);
+    }
+    if let Some(fmax) = opts.fmax_hz {
+        let lmax = (two_pi * fmax).powi(2);
+        keep = keep.min(lambda.iter().take_while(|&&l| l <= lmax).count());
+    }
+    let shapes: Vec<(f64, Vec<f64>)> = (0..keep)
+        .map(|c| (lambda[c], (0..red.n_red).map(|r| phi[(r, c)]).collect()))
+        .collect();
+    let result = modal_result(model, &red, &m_full, &m, shapes, "dense (faer self-adjoint eigen)", prestress);
+    Ok(ModalSystem { reduction: red, k, m, result })
+}
+
+/// Axial force of every beam element from a full displacement vector (tension positive).
+pub fn element_axial_forces(model: &FeModel, u: &[f64]) -> Vec<f64> {
+    model
+        .beams
+        .iter()
+        .map(|b| {
+            let (a, c) = (6 * b.nodes[0], 6 * b.nodes[1]);
+            let du = [u[c] - u[a], u[c + 1] - u[a + 1], u[c + 2] - u[a + 2]];
+            let ex = b.rot[0];
+            b.props.e * b.props.sec.area / b.length * (ex[0] * du[0] + ex[1] * du[1] + ex[2] * du[2])
+        })
+        .collect()
+}
+
+/// Frequencies, sign convention and effective masses for a set of eigenpairs.
+pub fn modal_result(
+    model: &FeModel,
+    red: &Reduction,
+    m_full: &Triplets,
+    m_red: &Triplets,
+    pairs: Vec<(f64, Vec<f64>)>,
+    solver: &str,
+    prestress: Option<PrestressSummary>,
+) -> ModalResult {
+    let (total_mass, cm) = model.mass_properties(m_full);
+    let d_full = model.rigid_body_vectors(cm);
+    let d_red: Vec<[f64; 6]> = red.red_to_full.iter().map(|&f| d_full[f]).collect();
+    // M·D over the reduced DOFs.
+    let mut md = vec![[0.0; 6]; red.n_red];
+    for &(i, j, v) in m_red {
+        for a in 0..6 {
+            md[i][a] += v * d_red[j][a];
+        }
+    }
+    let mut rb = [0.0; 6];
+    for i in 0..red.n_red {
+        for a in 0..6 {
+            rb[a] += d_red[i][a] * md[i][a];
+        }
+    }
+    let mut rb_total = [0.0; 6];
+    for &(i, j, v) in m_full {
+        for a in 0..6 {
+            rb_total[a] += d_full[i][a] * v * d_full[j][a];
+        }
+    }
+    let pairs = align_degenerate(pairs, &md);
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let modes = pairs
+        .into_iter()
+        .enumerate()
+        .map(|(idx, (lambda, mut shape))| {
+            // Sign convention: the largest-magnitude component (first one on ties) is positive.
+            let mut imax = 0;
+            for (i, v) in shape.iter().enumerate() {
+                if v.abs() > shape[imax].abs() * (1.0 + 1e-12) {
+                    imax = i;
+                }
+            }
+            if shape[imax] < 0.0 {
+                shape.iter_mut().for_each(|v| *v = -*v);
+            }
+            let mut gamma = [0.0; 6];
+            for (i, s) in shape.iter().enumerate() {
+                for a in 0..6 {
+                    gamma[a] += s * md[i][a];
+                }
+            }
+            let eff = gamma.map(|g| g * g);
+            let frac: [f64; 6] = std::array::from_fn(|a| if rb_total[a] > 0.0 { eff[a] / rb_total[a] } else { 0.0 });
+            let f = lambda.signum() * lambda.abs().sqrt() / two_pi;
+            Mode {
+                index: idx + 1,
+                frequency_hz: f,
+                participation: Dir6::from_array(gamma),
+                effective_mass: Dir6::from_array(eff),
+                effective_mass_fraction: Dir6::from_array(frac),
+                shape,
+                eigenvalue: lambda,
+            }
+        })
+        .collect();
+    ModalResult {
+        total_mass_kg: total_mass,
+        center_of_mass_m: cm,
+        rigid_body_mass: Dir6::from_array(rb),
+        total_rigid_body_mass: Dir6::from_array(rb_total),
+        dofs: red.n_red,
+        solver: solver.to_string(),
+        modes,
+        prestress,
+    }
+}
+
+/// Within each cluster of (numerically) repeated eigenvalues the eigenvectors are any
+/// orthonormal basis of the eigenspace; the solver's choice mixes, say, the y and z bending of
+/// a square bar. Rotate each cluster so that its first mode takes all the participation in x,
+/// the next in y, and so on (Gram–Schmidt on the participation columns): the report then reads
+/// "mode 1: y, mode 2: z". An orthogonal rotation keeps the shapes M-orthonormal.
+fn align_degenerate(mut pairs: Vec<(f64, Vec<f64>)>, md: &[[f64; 6]]) -> Vec<(f64, Vec<f64>)> {
+    let mut start = 0;
+    while start < pairs.len() {
+        let l0 = pairs[start].0;
+        let mut end = start + 1;
+        while end < pairs.len() && (pairs[end].0 - l0).abs() <= 1e-7 * l0.abs().max(1e-6) {
+            end += 1;
+        }
+        let k = end - start;
+        if k > 1 {
+            // Γ[i][a] for the cluster's modes.
+            let gamma: Vec<[f64; 6]> = (start..end)
+                .map(|c| {
+                    let mut g = [0.0; 6];
+                    for (i, s) in pairs[c].1.iter().enumerate() {
+                        for a in 0..6 {
+                            g[a] += s * md[i][a];
+                        }
+                    }
+                    g
+                })
+                .collect();
+            let gnorm: f64 = gamma.iter().flat_map(|g| g.iter()).map(|x| x * x).sum::<f64>().sqrt();
+            let mut q: Vec<Vec<f64>> = Vec::new();
+            let candidates = (0..6)
+                .map(|a| (0..k).map(|i| gamma[i][a]).collect::<Vec<f64>>())
+                .chain((0..k).map(|i| (0..k).map(|j| if i == j { 1.0 } else { 0.0 }).collect()));
+            for mut v in candidates {
+                if q.len() == k {
+                    break;
+                }
+                for _ in 0..2 {
+                    for b in &q {
+                        let d: f64 = v.iter().zip(b).map(|(x, y)| x * y).sum();
+                        v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
+                    }
+                }
+                let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+                if n > 1e-6 * gnorm.max(1e-300) && n > 1e-8 {
+                    q.push(v.into_iter().map(|x| x / n).collect());
+                }
+            }
+            let old: Vec<Vec<f64>> = (start..end).map(|c| pairs[c].1.clone()).collect();
+            for (j, qj) in q.iter().enumerate() {
+                let dofs = old[0].len();
+                let mut s = vec![0.0; dofs];
+                for (i, o) in old.iter().enumerate() {
+                    for r in 0..dofs {
+                        s[r] += qj[i] * o[r];
+                    }
+                }
+                pairs[start + j].1 = s;
+            }
+        }
+        start = end;
+    }
+    pairs
+}
