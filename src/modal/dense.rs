@@ -90,7 +90,9 @@ pub fn buckling_factor(k: &Mat<f64>, kg: &Mat<f64>) -> Result<Option<f64>, Dense
     let b = congruence(&l, &neg);
     let (mu, _) = sym_eigen(&b, false)?;
     let max = mu.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    Ok(if max > 0.0 { Some(1.0 / max) } else { None })
+    let span = mu.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+    // A μ at round-off level relative to the spectrum is a zero: no buckling direction.
+    Ok(if max > 1e-12 * span { Some(1.0 / max) } else { None })
 }
 
 /// Solves K·u = f for symmetric positive-definite K.
