@@ -7,6 +7,7 @@ use satqual::Error;
 use std::io::Write;
 
 mod bench;
+mod bench_fem;
 mod modal;
 
 #[derive(Parser, Debug)]
