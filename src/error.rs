@@ -26,12 +26,22 @@ pub enum FemError {
     #[error(
         "the mass matrix is singular on node {node} DOF {dof} ({dof_name}): it carries no mass and is not supported; add a support on it, a mass or inertia, or a beam that gives it mass"
     )]
-    MasslessDof { node: String, dof: usize, dof_name: &'static str },
+    MasslessDof {
+        node: String,
+        dof: usize,
+        dof_name: &'static str,
+    },
     #[error(
         "the stiffness matrix is singular: the model is unconstrained or a mechanism near node {node} DOF {dof} ({dof_name}); add supports for a static or buckling solve"
     )]
-    Unconstrained { node: String, dof: usize, dof_name: &'static str },
-    #[error("rigid link: node {node} is a slave of more than one master, or a master is also a slave")]
+    Unconstrained {
+        node: String,
+        dof: usize,
+        dof_name: &'static str,
+    },
+    #[error(
+        "rigid link: node {node} is a slave of more than one master, or a master is also a slave"
+    )]
     RigidChain { node: String },
     #[error("{0}")]
     Invalid(String),
@@ -45,8 +55,14 @@ pub enum ModalError {
     #[error(
         "Sturm check failed: {expected} modes lie below {fmax_hz} Hz (LDLᵀ inertia of K − σM) but the solver returned {found}"
     )]
-    SturmMismatch { expected: usize, found: usize, fmax_hz: f64 },
-    #[error("no buckling factor: the prestress does not destabilise the structure (K_G has no negative direction)")]
+    SturmMismatch {
+        expected: usize,
+        found: usize,
+        fmax_hz: f64,
+    },
+    #[error(
+        "no buckling factor: the prestress does not destabilise the structure (K_G has no negative direction)"
+    )]
     NoBuckling,
     #[error("{0}")]
     Invalid(String),
@@ -100,7 +116,10 @@ pub enum Error {
 
 impl Error {
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Error::Io { path: path.into(), source }
+        Error::Io {
+            path: path.into(),
+            source,
+        }
     }
 }
 

@@ -10,12 +10,24 @@ use crate::spec::Scene;
 
 /// Builds the FE model of a scene and runs the modal analysis (with prestress when the scene
 /// has static loads). Command-line overrides take precedence over `[modal]`.
-pub fn modal(scene: &Scene, fmax_hz: Option<f64>, modes: Option<usize>) -> Result<(FeModel, ModalSystem), Error> {
+pub fn modal(
+    scene: &Scene,
+    fmax_hz: Option<f64>,
+    modes: Option<usize>,
+) -> Result<(FeModel, ModalSystem), Error> {
     let model = FeModel::from_scene(&scene.file).map_err(|e| locate(scene, e))?;
     let spec = scene.file.modal.clone().unwrap_or_default();
     let opts = match (fmax_hz, modes) {
-        (None, None) => ModalOptions { fmax_hz: spec.fmax_hz, modes: spec.modes, solver: spec.solver },
-        (f, n) => ModalOptions { fmax_hz: f, modes: n, solver: spec.solver },
+        (None, None) => ModalOptions {
+            fmax_hz: spec.fmax_hz,
+            modes: spec.modes,
+            solver: spec.solver,
+        },
+        (f, n) => ModalOptions {
+            fmax_hz: f,
+            modes: n,
+            solver: spec.solver,
+        },
     };
     let sys = crate::modal::analyze(&model, &opts).map_err(|e| match e {
         Error::Fem(f) => locate(scene, f),
@@ -27,12 +39,14 @@ pub fn modal(scene: &Scene, fmax_hz: Option<f64>, modes: Option<usize>) -> Resul
 /// Attaches the scene location of the node an FE error names, when it is a scene node.
 pub fn locate(scene: &Scene, e: FemError) -> Error {
     let node = match &e {
-        FemError::MasslessDof { node, .. } | FemError::Unconstrained { node, .. } | FemError::RigidChain { node } => {
-            node.clone()
-        }
+        FemError::MasslessDof { node, .. }
+        | FemError::Unconstrained { node, .. }
+        | FemError::RigidChain { node } => node.clone(),
         _ => return e.into(),
     };
-    let id = node.strip_prefix("node ").and_then(|s| s.parse::<i64>().ok());
+    let id = node
+        .strip_prefix("node ")
+        .and_then(|s| s.parse::<i64>().ok());
     let idx = id.and_then(|id| scene.file.node.iter().position(|n| n.id == id));
     match idx {
         Some(i) => {

@@ -35,10 +35,11 @@ pub fn loglog_interp(table: &[(f64, f64)], x: f64) -> f64 {
     if table.is_empty() || x < table[0].0 || x > table[table.len() - 1].0 {
         return 0.0;
     }
-    let i = match table.binary_search_by(|p| p.0.partial_cmp(&x).unwrap_or(std::cmp::Ordering::Less)) {
-        Ok(i) => return table[i].1,
-        Err(i) => i,
-    };
+    let i =
+        match table.binary_search_by(|p| p.0.partial_cmp(&x).unwrap_or(std::cmp::Ordering::Less)) {
+            Ok(i) => return table[i].1,
+            Err(i) => i,
+        };
     let (x0, y0) = table[i - 1];
     let (x1, y1) = table[i];
     if y0 <= 0.0 || y1 <= 0.0 {

@@ -12,7 +12,13 @@ fn load(path: &str) -> Scene {
 
 fn freqs(scene: &Scene, opts: ModalOptions) -> Vec<f64> {
     let model = FeModel::from_scene(&scene.file).unwrap();
-    analyze(&model, &opts).unwrap().result.modes.iter().map(|m| m.frequency_hz).collect()
+    analyze(&model, &opts)
+        .unwrap()
+        .result
+        .modes
+        .iter()
+        .map(|m| m.frequency_hz)
+        .collect()
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -25,13 +31,31 @@ fn cantilever_beta_l_roots() {
     // 4.694091, 7.854757, 10.995541. Steel 20×20 mm, 1 m: 16.710, 104.722, 293.224, 574.602 Hz.
     // Tolerance 0.1% (issue 2).
     let s = load("test-specs/verification/cantilever.toml");
-    let f = freqs(&s, ModalOptions { modes: Some(8), ..Default::default() });
+    let f = freqs(
+        &s,
+        ModalOptions {
+            modes: Some(8),
+            ..Default::default()
+        },
+    );
     let (e, rho, a, i) = (210e9, 7850.0, 4e-4, 0.02f64.powi(4) / 12.0);
-    for (n, bl) in [1.875104068711961f64, 4.694091132974175, 7.854757438237613, 10.995540734875467].iter().enumerate() {
+    for (n, bl) in [
+        1.875104068711961f64,
+        4.694091132974175,
+        7.854757438237613,
+        10.995540734875467,
+    ]
+    .iter()
+    .enumerate()
+    {
         let exact = bl * bl / (2.0 * std::f64::consts::PI) * (e * i / (rho * a)).sqrt();
         for k in 0..2 {
             let got = f[2 * n + k];
-            assert!(rel(got, exact) < 1e-3, "mode {}: {got} Hz vs {exact} Hz", 2 * n + k + 1);
+            assert!(
+                rel(got, exact) < 1e-3,
+                "mode {}: {got} Hz vs {exact} Hz",
+                2 * n + k + 1
+            );
         }
     }
     // The rounded figures of the issue, to the same tolerance.
@@ -46,7 +70,15 @@ fn cantilever_first_mode_effective_mass() {
     // of Structures, §17); the issue quotes "about 0.613". Tolerance ±0.002.
     let s = load("test-specs/verification/cantilever.toml");
     let model = FeModel::from_scene(&s.file).unwrap();
-    let r = analyze(&model, &ModalOptions { modes: Some(2), ..Default::default() }).unwrap().result;
+    let r = analyze(
+        &model,
+        &ModalOptions {
+            modes: Some(2),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .result;
     let m1 = &r.modes[0].effective_mass_fraction;
     let m2 = &r.modes[1].effective_mass_fraction;
     // Degenerate pair aligned with the axes: one mode per bending plane.
@@ -59,8 +91,16 @@ fn cantilever_first_mode_effective_mass() {
 fn nafems_fv5_timoshenko() {
     // Source: NAFEMS R0015 test FV5 (deep simply supported beam). Tolerance 0.5% (issue 2).
     let s = load("test-specs/verification/nafems-fv5.toml");
-    let f = freqs(&s, ModalOptions { modes: Some(9), ..Default::default() });
-    let target = [42.65, 42.65, 71.20, 125.00, 148.15, 148.15, 213.61, 283.47, 283.47];
+    let f = freqs(
+        &s,
+        ModalOptions {
+            modes: Some(9),
+            ..Default::default()
+        },
+    );
+    let target = [
+        42.65, 42.65, 71.20, 125.00, 148.15, 148.15, 213.61, 283.47, 283.47,
+    ];
     for (i, (got, t)) in f.iter().zip(target).enumerate() {
         assert!(rel(*got, t) < 5e-3, "mode {}: {got} vs {t}", i + 1);
     }
@@ -72,12 +112,31 @@ fn nafems_fv5_euler_bernoulli_visibly_misses() {
     // modes. Assert the miss is larger than 1% on the first flexure and above 4% on the third
     // (the Timoshenko result is within 0.1% of both).
     let s = load("test-specs/verification/nafems-fv5.toml");
-    let text = s.text.replace("theory = \"timoshenko\"", "theory = \"euler-bernoulli\"");
+    let text = s
+        .text
+        .replace("theory = \"timoshenko\"", "theory = \"euler-bernoulli\"");
     let eb = Scene::parse(Path::new("fv5-eb.toml"), &text).unwrap();
-    let f = freqs(&eb, ModalOptions { modes: Some(10), ..Default::default() });
-    assert!(rel(f[0], 42.65) > 0.01, "EB first flexure {} should miss 42.65 Hz", f[0]);
-    let flex3 = f.iter().copied().filter(|x| *x > 250.0).fold(f64::INFINITY, f64::min);
-    assert!(rel(flex3, 283.47) > 0.04, "EB third flexure {flex3} should miss 283.47 Hz");
+    let f = freqs(
+        &eb,
+        ModalOptions {
+            modes: Some(10),
+            ..Default::default()
+        },
+    );
+    assert!(
+        rel(f[0], 42.65) > 0.01,
+        "EB first flexure {} should miss 42.65 Hz",
+        f[0]
+    );
+    let flex3 = f
+        .iter()
+        .copied()
+        .filter(|x| *x > 250.0)
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        rel(flex3, 283.47) > 0.04,
+        "EB third flexure {flex3} should miss 283.47 Hz"
+    );
 }
 
 #[test]
@@ -85,7 +144,13 @@ fn nafems_fv4_offset_masses() {
     // Source: NAFEMS R0015 test FV4 (cantilever with off-centre point masses, rigid arm).
     // Tolerance 0.5% (issue 2). The reference is a slender-beam solution (see the scene).
     let s = load("test-specs/verification/nafems-fv4.toml");
-    let f = freqs(&s, ModalOptions { modes: Some(6), ..Default::default() });
+    let f = freqs(
+        &s,
+        ModalOptions {
+            modes: Some(6),
+            ..Default::default()
+        },
+    );
     let target = [1.723, 1.727, 7.413, 9.972, 18.155, 26.957];
     for (i, (got, t)) in f.iter().zip(target).enumerate() {
         assert!(rel(*got, t) < 5e-3, "mode {}: {got} vs {t}", i + 1);
@@ -144,19 +209,40 @@ fn axially_loaded_pinned_bar_frequency_and_buckling() {
     for n in [45_000.0, -20_000.0] {
         let s = axial_bar(n);
         let model = FeModel::from_scene(&s.file).unwrap();
-        let sys = analyze(&model, &ModalOptions { modes: Some(2), ..Default::default() }).unwrap();
+        let sys = analyze(
+            &model,
+            &ModalOptions {
+                modes: Some(2),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let exact = f0 * (1.0 + n * l * l / (pi * pi * e * i)).sqrt();
         for m in &sys.result.modes {
-            assert!(rel(m.frequency_hz, exact) < 1e-3, "N = {n}: {} vs {exact}", m.frequency_hz);
+            assert!(
+                rel(m.frequency_hz, exact) < 1e-3,
+                "N = {n}: {} vs {exact}",
+                m.frequency_hz
+            );
         }
         let ps = sys.result.prestress.as_ref().unwrap();
-        assert!(rel(ps.members[0].axial_force_n, n) < 1e-9, "axial force {}", ps.members[0].axial_force_n);
+        assert!(
+            rel(ps.members[0].axial_force_n, n) < 1e-9,
+            "axial force {}",
+            ps.members[0].axial_force_n
+        );
         if n < 0.0 {
             let lambda = ps.buckling_factor.unwrap();
             let expect = pcr / -n;
-            assert!(rel(lambda, expect) < 1e-4, "buckling factor {lambda} vs {expect}");
+            assert!(
+                rel(lambda, expect) < 1e-4,
+                "buckling factor {lambda} vs {expect}"
+            );
         } else {
-            assert!(ps.buckling_factor.is_none(), "tension cannot buckle the bar");
+            assert!(
+                ps.buckling_factor.is_none(),
+                "tension cannot buckle the bar"
+            );
         }
     }
 }
@@ -166,7 +252,10 @@ fn effective_mass_sums_and_orthonormality() {
     // Completeness: Σ over all modes of Γ² = Dᵀ·M·D of the free DOFs (exact identity, since
     // the mass-normalised shapes are a complete M-orthonormal basis), to 1e-9 relative; and
     // Φᵀ·M·Φ = I to 1e-10 (issue 2). FV4 has offset masses, rigid links and coupled modes.
-    for path in ["test-specs/verification/nafems-fv4.toml", "test-specs/verification/nafems-fv5.toml"] {
+    for path in [
+        "test-specs/verification/nafems-fv4.toml",
+        "test-specs/verification/nafems-fv5.toml",
+    ] {
         let s = load(path);
         let model = FeModel::from_scene(&s.file).unwrap();
         let sys = analyze(&model, &ModalOptions::default()).unwrap();
@@ -180,13 +269,20 @@ fn effective_mass_sums_and_orthonormality() {
             }
         }
         for a in 0..6 {
-            assert!((sum[a] - rb[a]).abs() <= 1e-9 * rb[a].max(1e-30), "{path} dir {a}: {} vs {}", sum[a], rb[a]);
+            assert!(
+                (sum[a] - rb[a]).abs() <= 1e-9 * rb[a].max(1e-30),
+                "{path} dir {a}: {} vs {}",
+                sum[a],
+                rb[a]
+            );
         }
         let n = r.dofs;
         let md = satqual::fem::model::dense(n, &sys.m);
         let mut worst = 0.0f64;
         for (p, mp) in r.modes.iter().enumerate() {
-            let v: Vec<f64> = (0..n).map(|i| (0..n).map(|j| md[(i, j)] * mp.shape[j]).sum()).collect();
+            let v: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| md[(i, j)] * mp.shape[j]).sum())
+                .collect();
             for (q, mq) in r.modes.iter().enumerate() {
                 let d: f64 = mq.shape.iter().zip(&v).map(|(a, b)| a * b).sum();
                 let expect = if p == q { 1.0 } else { 0.0 };
@@ -202,7 +298,15 @@ fn total_mass_includes_offset_masses() {
     // FV4: beam ρ·A·L = 8000·π·0.25²/4·10 = 15 707.96 kg plus 11 000 kg of point masses.
     let s = load("test-specs/verification/nafems-fv4.toml");
     let model = FeModel::from_scene(&s.file).unwrap();
-    let r = analyze(&model, &ModalOptions { modes: Some(1), ..Default::default() }).unwrap().result;
+    let r = analyze(
+        &model,
+        &ModalOptions {
+            modes: Some(1),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .result;
     let expect = 8000.0 * std::f64::consts::PI * 0.25 * 0.25 * 10.0 + 11_000.0;
     assert!(rel(r.total_mass_kg, expect) < 1e-12, "{}", r.total_mass_kg);
 }
@@ -212,13 +316,62 @@ fn free_free_model_returns_rigid_body_modes() {
     // No supports: six rigid-body modes at ~0 Hz, then the first free-free bending pair at
     // (4.730041)²/(2πL²)·√(EI/ρA) (free-free beam root), 0.1%.
     let s = load("test-specs/verification/cantilever.toml");
-    let text = s.text.replace("[[support]]\nnode = 1\ndofs = \"123456\"\n", "");
+    let text = s
+        .text
+        .replace("[[support]]\nnode = 1\ndofs = \"123456\"\n", "");
     let free = Scene::parse(Path::new("free.toml"), &text).unwrap();
-    let f = freqs(&free, ModalOptions { modes: Some(8), ..Default::default() });
+    let f = freqs(
+        &free,
+        ModalOptions {
+            modes: Some(8),
+            ..Default::default()
+        },
+    );
     for (i, x) in f.iter().take(6).enumerate() {
         assert!(x.abs() < 1e-2, "rigid mode {i}: {x} Hz");
     }
     let (e, rho, a, i) = (210e9, 7850.0, 4e-4, 0.02f64.powi(4) / 12.0);
-    let exact = 4.730040744862704f64.powi(2) / (2.0 * std::f64::consts::PI) * (e * i / (rho * a)).sqrt();
+    let exact =
+        4.730040744862704f64.powi(2) / (2.0 * std::f64::consts::PI) * (e * i / (rho * a)).sqrt();
     assert!(rel(f[6], exact) < 1e-3, "{} vs {exact}", f[6]);
+}
+
+#[test]
+fn guide_bar_modes_match_cantilever_roots() {
+    // The separation model's bar modes come from the FE beam model. Steel bar d = 20 mm,
+    // L = 3.85 m (the paper's bar length, §4): EB roots βL = 1.875104, 4.694091; the slender bar
+    // (L/d = 192) makes Timoshenko corrections < 0.01%. Tolerance 0.1%. Unit modal mass:
+    // Σ shape² · μ · Δx ≈ 1 (trapezoid on 40 elements, 1%).
+    let steel = satqual::spec::Material {
+        name: "steel".into(),
+        youngs_modulus_pa: 210e9,
+        poisson_ratio: 0.3,
+        density_kg_m3: 7850.0,
+        yield_strength_pa: None,
+        ultimate_strength_pa: None,
+    };
+    let (l, d) = (3.85, 0.02);
+    let b = satqual::fem::cantilever_bar_modes(l, d, &steel, 40, 3).unwrap();
+    let (a, i) = (
+        std::f64::consts::PI * d * d / 4.0,
+        std::f64::consts::PI * d.powi(4) / 64.0,
+    );
+    for (k, bl) in [1.875104068711961f64, 4.694091132974175].iter().enumerate() {
+        let exact =
+            bl * bl / (2.0 * std::f64::consts::PI * l * l) * (210e9 * i / (7850.0 * a)).sqrt();
+        assert!(
+            rel(b.frequencies_hz[k], exact) < 1e-3,
+            "{} vs {exact}",
+            b.frequencies_hz[k]
+        );
+        let s = &b.shapes[k];
+        let dx = l / 40.0;
+        let mut integral = 0.0;
+        for w in s.windows(2) {
+            integral += 0.5 * (w[0] * w[0] + w[1] * w[1]) * b.mass_per_length_kg_m * dx;
+        }
+        assert!((integral - 1.0).abs() < 0.01, "modal mass {integral}");
+    }
+    assert_eq!(b.stations_m.len(), 41);
+    assert_eq!(b.shapes[0][0], 0.0);
 }

@@ -55,7 +55,10 @@ fn err_with(from: &str, to: &str) -> String {
 }
 
 fn line_of(text: &str, needle: &str) -> usize {
-    text.lines().position(|l| l.contains(needle)).expect("needle") + 1
+    text.lines()
+        .position(|l| l.contains(needle))
+        .expect("needle")
+        + 1
 }
 
 #[test]
@@ -66,29 +69,50 @@ fn base_scene_is_valid() {
 #[test]
 fn missing_node_reference() {
     let e = err_with("nodes = [1, 2]", "nodes = [1, 7]");
-    assert!(e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "nodes = [1, 2]"))), "{e}");
-    assert!(e.contains("beam[0].nodes") && e.contains("node 7 is not defined"), "{e}");
+    assert!(
+        e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "nodes = [1, 2]"))),
+        "{e}"
+    );
+    assert!(
+        e.contains("beam[0].nodes") && e.contains("node 7 is not defined"),
+        "{e}"
+    );
 }
 
 #[test]
 fn missing_section_and_material() {
     let e = err_with("section = \"bar\"", "section = \"nope\"");
-    assert!(e.contains("beam[0].section") && e.contains("`nope` is not defined"), "{e}");
+    assert!(
+        e.contains("beam[0].section") && e.contains("`nope` is not defined"),
+        "{e}"
+    );
     let e = err_with("material = \"steel\"", "material = \"unobtainium\"");
-    assert!(e.contains("beam[0].material") && e.contains("`unobtainium`"), "{e}");
+    assert!(
+        e.contains("beam[0].material") && e.contains("`unobtainium`"),
+        "{e}"
+    );
 }
 
 #[test]
 fn duplicate_node_id() {
     let e = err_with("id = 2", "id = 1");
-    assert!(e.contains("node[1].id") && e.contains("duplicate node id 1"), "{e}");
-    assert!(e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "id = 2"))), "{e}");
+    assert!(
+        e.contains("node[1].id") && e.contains("duplicate node id 1"),
+        "{e}"
+    );
+    assert!(
+        e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "id = 2"))),
+        "{e}"
+    );
 }
 
 #[test]
 fn non_positive_modulus_density_dimension() {
     let e = err_with("youngs_modulus_pa = 210e9", "youngs_modulus_pa = 0.0");
-    assert!(e.contains("material[0].youngs_modulus_pa") && e.contains("must be positive"), "{e}");
+    assert!(
+        e.contains("material[0].youngs_modulus_pa") && e.contains("must be positive"),
+        "{e}"
+    );
     let e = err_with("density_kg_m3 = 7850", "density_kg_m3 = -1.0");
     assert!(e.contains("material[0].density_kg_m3"), "{e}");
     let e = err_with("width_m = 0.02", "width_m = -0.02");
@@ -98,44 +122,83 @@ fn non_positive_modulus_density_dimension() {
 #[test]
 fn inner_diameter_not_below_outer() {
     let e = err_with("inner_diameter_m = 0.04", "inner_diameter_m = 0.05");
-    assert!(e.contains("section[1].inner_diameter_m") && e.contains("smaller than the outer"), "{e}");
-    assert!(e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "inner_diameter_m"))), "{e}");
+    assert!(
+        e.contains("section[1].inner_diameter_m") && e.contains("smaller than the outer"),
+        "{e}"
+    );
+    assert!(
+        e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "inner_diameter_m"))),
+        "{e}"
+    );
 }
 
 #[test]
 fn coincident_beam_nodes() {
-    let e = err_with("position_m = [1.0, 0.0, 0.0]", "position_m = [0.0, 0.0, 0.0]");
+    let e = err_with(
+        "position_m = [1.0, 0.0, 0.0]",
+        "position_m = [0.0, 0.0, 0.0]",
+    );
     assert!(e.contains("beam[0].nodes") && e.contains("coincide"), "{e}");
 }
 
 #[test]
 fn orientation_parallel_to_axis() {
-    let e = err_with("orientation = [0.0, 0.0, 1.0]", "orientation = [2.0, 0.0, 0.0]");
-    assert!(e.contains("beam[0].orientation") && e.contains("parallel"), "{e}");
-    assert!(e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "orientation"))), "{e}");
+    let e = err_with(
+        "orientation = [0.0, 0.0, 1.0]",
+        "orientation = [2.0, 0.0, 0.0]",
+    );
+    assert!(
+        e.contains("beam[0].orientation") && e.contains("parallel"),
+        "{e}"
+    );
+    assert!(
+        e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "orientation"))),
+        "{e}"
+    );
 }
 
 #[test]
 fn nan_and_inf_anywhere() {
     let e = err_with("height_m = 0.02", "height_m = nan");
-    assert!(e.contains("section[0].height_m") && e.contains("not a finite number"), "{e}");
-    let e = err_with("position_m = [1.0, 0.0, 0.0]", "position_m = [1.0, inf, 0.0]");
-    assert!(e.contains("node[1].position_m[1]") && e.contains("not a finite"), "{e}");
-    assert!(e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "position_m = [1.0"))), "{e}");
+    assert!(
+        e.contains("section[0].height_m") && e.contains("not a finite number"),
+        "{e}"
+    );
+    let e = err_with(
+        "position_m = [1.0, 0.0, 0.0]",
+        "position_m = [1.0, inf, 0.0]",
+    );
+    assert!(
+        e.contains("node[1].position_m[1]") && e.contains("not a finite"),
+        "{e}"
+    );
+    assert!(
+        e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "position_m = [1.0"))),
+        "{e}"
+    );
 }
 
 #[test]
 fn unknown_key_is_rejected_with_its_location() {
     let e = err_with("elements = 4", "elements = 4\nelemnets = 5");
     assert!(e.contains("elemnets"), "{e}");
-    assert!(e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "elements = 4") + 1)), "{e}");
+    assert!(
+        e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "elements = 4") + 1)),
+        "{e}"
+    );
 }
 
 #[test]
 fn wrong_type_names_the_key() {
     let e = err_with("elements = 4", "elements = \"four\"");
-    assert!(e.contains("beam[0].elements") || e.contains("elements"), "{e}");
-    assert!(e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "elements = 4"))), "{e}");
+    assert!(
+        e.contains("beam[0].elements") || e.contains("elements"),
+        "{e}"
+    );
+    assert!(
+        e.starts_with(&format!("bad.toml:{}:", line_of(BASE, "elements = 4"))),
+        "{e}"
+    );
 }
 
 #[test]
@@ -159,8 +222,13 @@ node = 1
 dofs = "123456"
 "#;
     let scene = Scene::parse(Path::new("sdof.toml"), text).unwrap();
-    let e = satqual::pipeline::modal(&scene, None, None).unwrap_err().to_string();
-    assert!(e.contains("node 2") && e.contains("DOF 4") && e.contains("(rx)"), "{e}");
+    let e = satqual::pipeline::modal(&scene, None, None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("node 2") && e.contains("DOF 4") && e.contains("(rx)"),
+        "{e}"
+    );
     assert!(e.starts_with("sdof.toml:6:"), "{e}");
     // Supporting the rotations makes it a valid 3-DOF model: f = √(k/m)/2π = 50.33 Hz.
     let fixed = text.to_string() + "[[support]]\nnode = 2\ndofs = \"456\"\n";
@@ -178,7 +246,9 @@ fn unconstrained_static_solve_is_an_error() {
     let text = BASE.replace("[[support]]\nnode = 1\ndofs = \"123456\"\n", "")
         + "[[static_load]]\nnode = 2\nforce_n = [100.0, 0.0, 0.0]\n";
     let scene = Scene::parse(Path::new("free.toml"), &text).unwrap();
-    let e = satqual::pipeline::modal(&scene, None, None).unwrap_err().to_string();
+    let e = satqual::pipeline::modal(&scene, None, None)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("unconstrained"), "{e}");
 }
 

@@ -23,18 +23,33 @@ struct Row {
 
 fn cantilever_ref() -> Vec<f64> {
     let (e, rho, a, i) = (210e9, 7850.0, 4e-4, 0.02f64.powi(4) / 12.0);
-    [1.875104068711961f64, 4.694091132974175, 7.854757438237613, 10.995540734875467]
-        .iter()
-        .map(|bl| bl * bl / (2.0 * std::f64::consts::PI) * (e * i / (rho * a)).sqrt())
-        .collect()
+    [
+        1.875104068711961f64,
+        4.694091132974175,
+        7.854757438237613,
+        10.995540734875467,
+    ]
+    .iter()
+    .map(|bl| bl * bl / (2.0 * std::f64::consts::PI) * (e * i / (rho * a)).sqrt())
+    .collect()
 }
 
 pub fn run(out: &Path) -> Result<(), Error> {
     let problems: [(&str, &str, Vec<f64>, Vec<usize>); 2] = [
         // cantilever: modes come in pairs; compare modes 1, 3, 5, 7.
-        ("cantilever", "test-specs/verification/cantilever.toml", cantilever_ref(), vec![0, 2, 4, 6]),
+        (
+            "cantilever",
+            "test-specs/verification/cantilever.toml",
+            cantilever_ref(),
+            vec![0, 2, 4, 6],
+        ),
         // FV5: 42.65 (x2), 71.20, 125.00, 148.15 -> modes 1, 3, 4, 5.
-        ("nafems-fv5", "test-specs/verification/nafems-fv5.toml", vec![42.65, 71.20, 125.00, 148.15], vec![0, 2, 3, 4]),
+        (
+            "nafems-fv5",
+            "test-specs/verification/nafems-fv5.toml",
+            vec![42.65, 71.20, 125.00, 148.15],
+            vec![0, 2, 3, 4],
+        ),
     ];
     let mut rows = Vec::new();
     for (name, path, reference, pick) in &problems {
@@ -58,7 +73,13 @@ pub fn run(out: &Path) -> Result<(), Error> {
                 let mut result = None;
                 for _ in 0..3 {
                     let t = Instant::now();
-                    let sys = analyze(&model, &ModalOptions { modes: Some(10), ..Default::default() })?;
+                    let sys = analyze(
+                        &model,
+                        &ModalOptions {
+                            modes: Some(10),
+                            ..Default::default()
+                        },
+                    )?;
                     best = best.min(t.elapsed().as_secs_f64() * 1e3);
                     result = Some(sys.result);
                 }
@@ -86,7 +107,15 @@ pub fn run(out: &Path) -> Result<(), Error> {
         let _ = writeln!(
             md,
             "| {} | {} | {} | {} | {:.2} | {:+.4} | {:+.4} | {:+.4} | {:+.4} |",
-            r.problem, r.theory, r.elements_per_member, r.dofs, r.solve_ms, r.error_pct[0], r.error_pct[1], r.error_pct[2], r.error_pct[3]
+            r.problem,
+            r.theory,
+            r.elements_per_member,
+            r.dofs,
+            r.solve_ms,
+            r.error_pct[0],
+            r.error_pct[1],
+            r.error_pct[2],
+            r.error_pct[3]
         );
     }
     let json = serde_json::to_string_pretty(&rows).map_err(|e| Error::Other(e.to_string()))?;

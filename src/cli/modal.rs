@@ -26,17 +26,26 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
-    if let Some(f) = args.fmax {
-        if !(f > 0.0 && f.is_finite()) {
-            return Err(Error::Other(format!("--fmax must be a positive frequency in Hz, got {f}")));
-        }
+    if let Some(f) = args.fmax
+        && !(f > 0.0 && f.is_finite())
+    {
+        return Err(Error::Other(format!(
+            "--fmax must be a positive frequency in Hz, got {f}"
+        )));
     }
     let scene = satqual::spec::Scene::load(&args.scene)?;
     let (model, sys) = satqual::pipeline::modal(&scene, args.fmax, args.modes)?;
     let p = Printer::new(args.json);
     let r = &sys.result;
     let mut t = String::new();
-    let _ = writeln!(t, "{}: {} DOFs, total mass {:.6} kg, solver {}", args.scene.display(), r.dofs, r.total_mass_kg, r.solver);
+    let _ = writeln!(
+        t,
+        "{}: {} DOFs, total mass {:.6} kg, solver {}",
+        args.scene.display(),
+        r.dofs,
+        r.total_mass_kg,
+        r.solver
+    );
     let _ = writeln!(
         t,
         "{:>5} {:>12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7}",
@@ -62,10 +71,17 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     if let Some(ps) = &r.prestress {
         match ps.buckling_factor {
             Some(l) => {
-                let _ = writeln!(t, "prestress: buckling factor {l:.6} (margin {:+.1}%)", (l - 1.0) * 100.0);
+                let _ = writeln!(
+                    t,
+                    "prestress: buckling factor {l:.6} (margin {:+.1}%)",
+                    (l - 1.0) * 100.0
+                );
             }
             None => {
-                let _ = writeln!(t, "prestress: no buckling (the prestress stiffens the structure everywhere)");
+                let _ = writeln!(
+                    t,
+                    "prestress: no buckling (the prestress stiffens the structure everywhere)"
+                );
             }
         }
     }
@@ -78,18 +94,32 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     Ok(Outcome::Pass)
 }
 
-fn export(dir: &Path, model: &satqual::fem::FeModel, red: &Reduction, sys: &satqual::modal::ModalSystem) -> Result<(), Error> {
+fn export(
+    dir: &Path,
+    model: &satqual::fem::FeModel,
+    red: &Reduction,
+    sys: &satqual::modal::ModalSystem,
+) -> Result<(), Error> {
     let k = red.reduce(&model.stiffness());
     satqual::report::write_atomic(&dir.join("K.mtx"), matrix_market(red.n_red, &k).as_bytes())?;
-    satqual::report::write_atomic(&dir.join("M.mtx"), matrix_market(red.n_red, &sys.m).as_bytes())?;
+    satqual::report::write_atomic(
+        &dir.join("M.mtx"),
+        matrix_market(red.n_red, &sys.m).as_bytes(),
+    )?;
     if let Some(ps) = &sys.result.prestress {
         let kg = red.reduce(&model.geometric_stiffness(&ps.element_axial_n));
-        satqual::report::write_atomic(&dir.join("KG.mtx"), matrix_market(red.n_red, &kg).as_bytes())?;
+        satqual::report::write_atomic(
+            &dir.join("KG.mtx"),
+            matrix_market(red.n_red, &kg).as_bytes(),
+        )?;
     }
     let mut csv = String::from("index,node,node_id,dof\n");
     for (i, &f) in red.reduction_dofs().iter().enumerate() {
         let (label, dof, _) = model.dof_label(f);
-        let id = model.nodes[f / 6].id.map(|v| v.to_string()).unwrap_or_default();
+        let id = model.nodes[f / 6]
+            .id
+            .map(|v| v.to_string())
+            .unwrap_or_default();
         let _ = writeln!(csv, "{},\"{}\",{},{}", i, label, id, dof);
     }
     satqual::report::write_atomic(&dir.join("dofs.csv"), csv.as_bytes())
@@ -98,7 +128,7 @@ fn export(dir: &Path, model: &satqual::fem::FeModel, red: &Reduction, sys: &satq
 /// Matrix Market coordinate format, lower triangle of a symmetric matrix, duplicates summed.
 fn matrix_market(n: usize, t: &Triplets) -> String {
     let mut e: Vec<(usize, usize, f64)> = t.iter().filter(|x| x.0 >= x.1).copied().collect();
-    e.sort_by(|a, b| (a.1, a.0).cmp(&(b.1, b.0)));
+    e.sort_by_key(|a| (a.1, a.0));
     let mut merged: Vec<(usize, usize, f64)> = Vec::with_capacity(e.len());
     for (i, j, v) in e {
         match merged.last_mut() {

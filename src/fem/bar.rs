@@ -1,12 +1,12 @@
 //! Lateral bending modes of a guide bar, clamped at its root and free at its tip, for the
-//! separation model's floating-frame (modal) bar. The separation module samples the shapes at
-//! stations along the bar and interpolates between them.
-//!
-//! TEMPORARY: closed-form Euler-Bernoulli cantilever modes (βL roots). To be replaced by the FE
-//! beam model of this module once the FE core lands; the signature stays.
+//! separation model's floating-frame (modal) bar. The modes come from this module's FE beam
+//! model (Timoshenko elements with consistent mass), so the separation model and the stack
+//! model describe the same bar; the separation module samples the shapes at the element nodes
+//! and interpolates between them.
 
+use super::FeModel;
 use crate::error::FemError;
-use crate::spec::Material;
+use crate::spec::{Beam, Material, Node, SceneFile, Section, Support, Theory};
 
 /// Mass-normalised lateral modes of one bending plane (a circular bar has the same modes in x
 /// and y).
@@ -23,7 +23,8 @@ pub struct BarModes {
     pub length_m: f64,
 }
 
-/// Modes of a solid circular bar of `diameter_m` and `length_m`, clamped at z = 0.
+/// Modes of a solid circular bar of `diameter_m` and `length_m`, clamped at z = 0, from
+/// `elements` beam elements. Returns the first `n_modes` bending modes of one plane.
 pub fn cantilever_bar_modes(
     length_m: f64,
     diameter_m: f64,
@@ -32,30 +33,75 @@ pub fn cantilever_bar_modes(
     n_modes: usize,
 ) -> Result<BarModes, FemError> {
     if !(length_m > 0.0 && diameter_m > 0.0) || elements == 0 {
-        return Err(FemError::Invalid("bar length, diameter and elements must be positive".into()));
+        return Err(FemError::Invalid(
+            "bar length, diameter and elements must be positive".into(),
+        ));
     }
-    let roots = [1.875104068711961, 4.694091132974175, 7.854757438237613, 10.995540734875467, 14.137168391046471];
-    let area = std::f64::consts::PI * diameter_m.powi(2) / 4.0;
-    let i = std::f64::consts::PI * diameter_m.powi(4) / 64.0;
-    let mu = material.density_kg_m3 * area;
-    let e = material.youngs_modulus_pa;
-    let stations: Vec<f64> = (0..=elements).map(|k| length_m * k as f64 / elements as f64).collect();
-    let mut freqs = Vec::new();
+    // The bar along global x; bending in the x–y plane gives the lateral modes.
+    let scene = SceneFile {
+        material: vec![material.clone()],
+        section: vec![Section {
+            name: "bar".into(),
+            shape: "circle".into(),
+            diameter_m: Some(diameter_m),
+            ..Default::default()
+        }],
+        node: vec![
+            Node {
+                id: 1,
+                position_m: [0.0; 3],
+            },
+            Node {
+                id: 2,
+                position_m: [length_m, 0.0, 0.0],
+            },
+        ],
+        beam: vec![Beam {
+            name: Some("guide bar".into()),
+            nodes: [1, 2],
+            section: "bar".into(),
+            material: material.name.clone(),
+            elements,
+            orientation: Some([0.0, 0.0, 1.0]),
+            theory: Theory::Timoshenko,
+        }],
+        support: vec![Support {
+            node: 1,
+            dofs: "123456".into(),
+        }],
+        ..Default::default()
+    };
+    let mut model = FeModel::from_scene(&scene)?;
+    // Only the x–y bending plane: out-of-plane, axial and torsional DOFs are held, which
+    // leaves exactly the lateral modes sought.
+    for n in 0..model.nodes.len() {
+        if n != 0 {
+            model.fixed[n] = [true, false, true, true, true, false];
+        }
+    }
+    let opts = crate::modal::ModalOptions {
+        modes: Some(n_modes),
+        ..Default::default()
+    };
+    let sys = crate::modal::analyze(&model, &opts).map_err(|e| FemError::Invalid(e.to_string()))?;
+    // Stations in order along the bar: root, interior nodes, tip.
+    let mut order: Vec<usize> = (0..model.nodes.len()).collect();
+    order.sort_by(|a, b| model.nodes[*a].x[0].total_cmp(&model.nodes[*b].x[0]));
+    let stations_m: Vec<f64> = order.iter().map(|&n| model.nodes[n].x[0]).collect();
+    let red = &sys.reduction;
     let mut shapes = Vec::new();
-    for (m, &bl) in roots.iter().enumerate().take(n_modes) {
-        let _ = m;
-        let beta = bl / length_m;
-        let w = beta * beta * (e * i / mu).sqrt();
-        freqs.push(w / (2.0 * std::f64::consts::PI));
-        let s = (bl.sin() - bl.sinh()) / (bl.cos() + bl.cosh());
-        let phi = |x: f64| {
-            let bx = beta * x;
-            (bx.cosh() - bx.cos()) + s * (bx.sinh() - bx.sin())
-        };
-        // ∫φ² dx = L for this normalisation of the clamped-free shape; unit modal mass
-        // divides by √(μL).
-        let scale = 1.0 / (mu * length_m).sqrt();
-        shapes.push(stations.iter().map(|&x| phi(x) * scale).collect());
+    let mut frequencies_hz = Vec::new();
+    for m in &sys.result.modes {
+        let full = red.expand(&m.shape);
+        shapes.push(order.iter().map(|&n| full[6 * n + 1]).collect());
+        frequencies_hz.push(m.frequency_hz);
     }
-    Ok(BarModes { stations_m: stations, frequencies_hz: freqs, shapes, mass_per_length_kg_m: mu, length_m })
+    let area = std::f64::consts::PI * diameter_m * diameter_m / 4.0;
+    Ok(BarModes {
+        stations_m,
+        frequencies_hz,
+        shapes,
+        mass_per_length_kg_m: material.density_kg_m3 * area,
+        length_m,
+    })
 }

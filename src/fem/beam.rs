@@ -59,7 +59,10 @@ impl SectionProps {
                 }
             }
             "tube" => {
-                let (d_o, d_i) = (s.outer_diameter_m.unwrap_or(0.0), s.inner_diameter_m.unwrap_or(0.0));
+                let (d_o, d_i) = (
+                    s.outer_diameter_m.unwrap_or(0.0),
+                    s.inner_diameter_m.unwrap_or(0.0),
+                );
                 tube(d_o, d_i, nu)
             }
             _ => SectionProps {
@@ -84,7 +87,9 @@ pub fn tube(d_o: f64, d_i: f64, nu: f64) -> SectionProps {
         iy: i,
         iz: i,
         j: 2.0 * i,
-        shear_factor: Some(6.0 * (1.0 + nu) * m2 / ((7.0 + 6.0 * nu) * m2 + (20.0 + 12.0 * nu) * m * m)),
+        shear_factor: Some(
+            6.0 * (1.0 + nu) * m2 / ((7.0 + 6.0 * nu) * m2 + (20.0 + 12.0 * nu) * m * m),
+        ),
     }
 }
 
@@ -130,9 +135,19 @@ fn bend_k(ei: f64, ph: f64, l: f64) -> [[f64; 4]; 4] {
     let l2 = l * l;
     [
         [12.0 * c, 6.0 * l * c, -12.0 * c, 6.0 * l * c],
-        [6.0 * l * c, (4.0 + ph) * l2 * c, -6.0 * l * c, (2.0 - ph) * l2 * c],
+        [
+            6.0 * l * c,
+            (4.0 + ph) * l2 * c,
+            -6.0 * l * c,
+            (2.0 - ph) * l2 * c,
+        ],
         [-12.0 * c, -6.0 * l * c, 12.0 * c, -6.0 * l * c],
-        [6.0 * l * c, (2.0 - ph) * l2 * c, -6.0 * l * c, (4.0 + ph) * l2 * c],
+        [
+            6.0 * l * c,
+            (2.0 - ph) * l2 * c,
+            -6.0 * l * c,
+            (4.0 + ph) * l2 * c,
+        ],
     ]
 }
 
@@ -192,7 +207,11 @@ fn bend_kg(n: f64, l: f64) -> [[f64; 4]; 4] {
 
 /// Scatters a 4×4 plane block into the 12×12 matrix; `flip` applies θy = −dw/dx.
 fn scatter(out: &mut M12, blk: &[[f64; 4]; 4], dofs: [usize; 4], flip: bool) {
-    let s = if flip { [1.0, -1.0, 1.0, -1.0] } else { [1.0; 4] };
+    let s = if flip {
+        [1.0, -1.0, 1.0, -1.0]
+    } else {
+        [1.0; 4]
+    };
     for a in 0..4 {
         for b in 0..4 {
             out[dofs[a]][dofs[b]] += s[a] * s[b] * blk[a][b];
@@ -215,8 +234,18 @@ pub fn local_k(p: &BeamProps, l: f64) -> M12 {
     let mut k = [[0.0; 12]; 12];
     scatter2(&mut k, p.e * p.sec.area / l, 0, 6, 1.0, -1.0);
     scatter2(&mut k, p.g * p.sec.j / l, 3, 9, 1.0, -1.0);
-    scatter(&mut k, &bend_k(p.e * p.sec.iz, phi(p, p.sec.iz, l), l), XY, false);
-    scatter(&mut k, &bend_k(p.e * p.sec.iy, phi(p, p.sec.iy, l), l), XZ, true);
+    scatter(
+        &mut k,
+        &bend_k(p.e * p.sec.iz, phi(p, p.sec.iz, l), l),
+        XY,
+        false,
+    );
+    scatter(
+        &mut k,
+        &bend_k(p.e * p.sec.iy, phi(p, p.sec.iy, l), l),
+        XZ,
+        true,
+    );
     k
 }
 
@@ -225,10 +254,27 @@ pub fn local_m(p: &BeamProps, l: f64) -> M12 {
     let mut m = [[0.0; 12]; 12];
     let rho_a = p.rho * p.sec.area;
     scatter2(&mut m, rho_a * l / 6.0, 0, 6, 2.0, 1.0);
-    scatter2(&mut m, p.rho * (p.sec.iy + p.sec.iz) * l / 6.0, 3, 9, 2.0, 1.0);
+    scatter2(
+        &mut m,
+        p.rho * (p.sec.iy + p.sec.iz) * l / 6.0,
+        3,
+        9,
+        2.0,
+        1.0,
+    );
     let rotary = p.theory == Theory::Timoshenko;
-    scatter(&mut m, &bend_m(rho_a, p.rho * p.sec.iz, phi(p, p.sec.iz, l), l, rotary), XY, false);
-    scatter(&mut m, &bend_m(rho_a, p.rho * p.sec.iy, phi(p, p.sec.iy, l), l, rotary), XZ, true);
+    scatter(
+        &mut m,
+        &bend_m(rho_a, p.rho * p.sec.iz, phi(p, p.sec.iz, l), l, rotary),
+        XY,
+        false,
+    );
+    scatter(
+        &mut m,
+        &bend_m(rho_a, p.rho * p.sec.iy, phi(p, p.sec.iy, l), l, rotary),
+        XZ,
+        true,
+    );
     m
 }
 
@@ -238,7 +284,14 @@ pub fn local_kg(p: &BeamProps, n: f64, l: f64) -> M12 {
     let g = bend_kg(n, l);
     scatter(&mut k, &g, XY, false);
     scatter(&mut k, &g, XZ, true);
-    scatter2(&mut k, n * (p.sec.iy + p.sec.iz) / (p.sec.area * l), 3, 9, 1.0, -1.0);
+    scatter2(
+        &mut k,
+        n * (p.sec.iy + p.sec.iz) / (p.sec.area * l),
+        3,
+        9,
+        1.0,
+        -1.0,
+    );
     k
 }
 
@@ -247,7 +300,11 @@ pub fn local_kg(p: &BeamProps, n: f64, l: f64) -> M12 {
 pub fn rotation(a: [f64; 3], b: [f64; 3], orientation: [f64; 3]) -> [[f64; 3]; 3] {
     let x = normalize([b[0] - a[0], b[1] - a[1], b[2] - a[2]]);
     let d = dot(orientation, x);
-    let z = normalize([orientation[0] - d * x[0], orientation[1] - d * x[1], orientation[2] - d * x[2]]);
+    let z = normalize([
+        orientation[0] - d * x[0],
+        orientation[1] - d * x[1],
+        orientation[2] - d * x[2],
+    ]);
     let y = cross(z, x);
     [x, y, z]
 }
@@ -255,7 +312,11 @@ pub fn rotation(a: [f64; 3], b: [f64; 3], orientation: [f64; 3]) -> [[f64; 3]; 3
 /// Default orientation: global z, or global y for a member along z.
 pub fn default_orientation(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     let x = normalize([b[0] - a[0], b[1] - a[1], b[2] - a[2]]);
-    if x[2].abs() > 0.999 { [0.0, 1.0, 0.0] } else { [0.0, 0.0, 1.0] }
+    if x[2].abs() > 0.999 {
+        [0.0, 1.0, 0.0]
+    } else {
+        [0.0, 0.0, 1.0]
+    }
 }
 
 /// Kglobal = Tᵀ·Klocal·T with T = diag(R, R, R, R).
@@ -293,7 +354,11 @@ pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 pub fn normalize(a: [f64; 3]) -> [f64; 3] {
@@ -318,7 +383,13 @@ mod tests {
             e: 210e9,
             g: 80e9,
             rho: 7850.0,
-            sec: SectionProps { area: 4e-4, iy: 1.3e-8, iz: 1.3e-8, j: 2.2e-8, shear_factor: Some(0.85) },
+            sec: SectionProps {
+                area: 4e-4,
+                iy: 1.3e-8,
+                iz: 1.3e-8,
+                j: 2.2e-8,
+                shear_factor: Some(0.85),
+            },
             theory: Theory::Timoshenko,
         };
         let l = 0.7;

@@ -74,9 +74,18 @@ impl FeModel {
         let mut index: HashMap<i64, usize> = HashMap::new();
         for n in &f.node {
             index.insert(n.id, nodes.len());
-            nodes.push(FeNode { id: Some(n.id), label: format!("node {}", n.id), x: n.position_m });
+            nodes.push(FeNode {
+                id: Some(n.id),
+                label: format!("node {}", n.id),
+                x: n.position_m,
+            });
         }
-        let get = |id: i64| index.get(&id).copied().ok_or_else(|| FemError::Invalid(format!("node {id} is not defined")));
+        let get = |id: i64| {
+            index
+                .get(&id)
+                .copied()
+                .ok_or_else(|| FemError::Invalid(format!("node {id} is not defined")))
+        };
         let mut beams = Vec::new();
         let mut member_names = Vec::new();
         for (bi, b) in f.beam.iter().enumerate() {
@@ -85,12 +94,16 @@ impl FeModel {
                 .material
                 .iter()
                 .find(|m| m.name == b.material)
-                .ok_or_else(|| FemError::Invalid(format!("material `{}` is not defined", b.material)))?;
+                .ok_or_else(|| {
+                    FemError::Invalid(format!("material `{}` is not defined", b.material))
+                })?;
             let sec = f
                 .section
                 .iter()
                 .find(|s| s.name == b.section)
-                .ok_or_else(|| FemError::Invalid(format!("section `{}` is not defined", b.section)))?;
+                .ok_or_else(|| {
+                    FemError::Invalid(format!("section `{}` is not defined", b.section))
+                })?;
             let props = BeamProps {
                 e: mat.youngs_modulus_pa,
                 g: mat.shear_modulus_pa(),
@@ -100,33 +113,61 @@ impl FeModel {
             };
             let (a, c) = (get(b.nodes[0])?, get(b.nodes[1])?);
             let (xa, xc) = (nodes[a].x, nodes[c].x);
-            let orient = b.orientation.unwrap_or_else(|| beam::default_orientation(xa, xc));
+            let orient = b
+                .orientation
+                .unwrap_or_else(|| beam::default_orientation(xa, xc));
             let rot = beam::rotation(xa, xc, orient);
             let ne = b.elements;
             let mut chain = vec![a];
             for k in 1..ne {
                 let t = k as f64 / ne as f64;
-                let x = [xa[0] + t * (xc[0] - xa[0]), xa[1] + t * (xc[1] - xa[1]), xa[2] + t * (xc[2] - xa[2])];
+                let x = [
+                    xa[0] + t * (xc[0] - xa[0]),
+                    xa[1] + t * (xc[1] - xa[1]),
+                    xa[2] + t * (xc[2] - xa[2]),
+                ];
                 chain.push(nodes.len());
-                nodes.push(FeNode { id: None, label: format!("{} interior node {k}", member_names[bi]), x });
+                nodes.push(FeNode {
+                    id: None,
+                    label: format!("{} interior node {k}", member_names[bi]),
+                    x,
+                });
             }
             chain.push(c);
-            let length = crate::spec::model::norm([xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]]) / ne as f64;
+            let length =
+                crate::spec::model::norm([xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]]) / ne as f64;
             for w in chain.windows(2) {
-                beams.push(BeamElement { nodes: [w[0], w[1]], member: bi, props, rot, length });
+                beams.push(BeamElement {
+                    nodes: [w[0], w[1]],
+                    member: bi,
+                    props,
+                    rot,
+                    length,
+                });
             }
         }
         let mut masses = Vec::new();
         for m in &f.mass {
-            masses.push((get(m.node)?, point_mass(m.mass_kg, m.inertia_kg_m2, m.offset_m)));
+            masses.push((
+                get(m.node)?,
+                point_mass(m.mass_kg, m.inertia_kg_m2, m.offset_m),
+            ));
         }
         let mut springs = Vec::new();
         for (i, s) in f.spring.iter().enumerate() {
-            springs.push(SpringElement { nodes: [get(s.nodes[0])?, get(s.nodes[1])?], k: s.stiffness, spec_index: i });
+            springs.push(SpringElement {
+                nodes: [get(s.nodes[0])?, get(s.nodes[1])?],
+                k: s.stiffness,
+                spec_index: i,
+            });
         }
         let mut rigid = Vec::new();
         for r in &f.rigid {
-            let slaves = r.slaves.iter().map(|&s| get(s)).collect::<Result<Vec<_>, _>>()?;
+            let slaves = r
+                .slaves
+                .iter()
+                .map(|&s| get(s))
+                .collect::<Result<Vec<_>, _>>()?;
             rigid.push((get(r.master)?, slaves));
         }
         let mut fixed = vec![[false; 6]; nodes.len()];
@@ -144,7 +185,16 @@ impl FeModel {
                 loads[n][3 + d] += l.moment_n_m[d];
             }
         }
-        Ok(FeModel { nodes, beams, masses, springs, rigid, fixed, loads, member_names })
+        Ok(FeModel {
+            nodes,
+            beams,
+            masses,
+            springs,
+            rigid,
+            fixed,
+            loads,
+            member_names,
+        })
     }
 
     pub fn n_full(&self) -> usize {
@@ -153,7 +203,11 @@ impl FeModel {
 
     /// Human label of a full DOF: node label and DOF name.
     pub fn dof_label(&self, full: usize) -> (String, usize, &'static str) {
-        (self.nodes[full / 6].label.clone(), full % 6 + 1, DOF_NAMES[full % 6])
+        (
+            self.nodes[full / 6].label.clone(),
+            full % 6 + 1,
+            DOF_NAMES[full % 6],
+        )
     }
 
     /// Global stiffness triplets in the full DOF space.
@@ -216,14 +270,18 @@ impl FeModel {
         for (m, slaves) in &self.rigid {
             for &s in slaves {
                 if master_of[s].is_some() {
-                    return Err(FemError::RigidChain { node: self.nodes[s].label.clone() });
+                    return Err(FemError::RigidChain {
+                        node: self.nodes[s].label.clone(),
+                    });
                 }
                 master_of[s] = Some(*m);
             }
         }
         for (m, _) in &self.rigid {
             if master_of[*m].is_some() {
-                return Err(FemError::RigidChain { node: self.nodes[*m].label.clone() });
+                return Err(FemError::RigidChain {
+                    node: self.nodes[*m].label.clone(),
+                });
             }
         }
         let n_full = 6 * nn;
@@ -286,7 +344,12 @@ impl FeModel {
                 }
             }
         }
-        Ok(Reduction { n_full, n_red: red_to_full.len(), map, red_to_full })
+        Ok(Reduction {
+            n_full,
+            n_red: red_to_full.len(),
+            map,
+            red_to_full,
+        })
     }
 
     /// Rigid-body motion vectors in the full DOF space (6 columns: x, y, z translations and
@@ -295,7 +358,11 @@ impl FeModel {
         // rows: full dofs; columns: the 6 rigid motions
         let mut d = vec![[0.0; 6]; self.n_full()];
         for (n, node) in self.nodes.iter().enumerate() {
-            let r = [node.x[0] - about[0], node.x[1] - about[1], node.x[2] - about[2]];
+            let r = [
+                node.x[0] - about[0],
+                node.x[1] - about[1],
+                node.x[2] - about[2],
+            ];
             let b = 6 * n;
             for k in 0..3 {
                 d[b + k][k] = 1.0;
@@ -407,7 +474,10 @@ impl Reduction {
 
     /// Expands a reduced vector to the full space: u = T·u_r.
     pub fn expand(&self, red: &[f64]) -> Vec<f64> {
-        self.map.iter().map(|row| row.iter().map(|&(a, t)| t * red[a]).sum()).collect()
+        self.map
+            .iter()
+            .map(|row| row.iter().map(|&(a, t)| t * red[a]).sum())
+            .collect()
     }
 }
 

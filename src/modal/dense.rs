@@ -5,14 +5,18 @@
 //! Everything runs with `Par::Seq`: the dense solves are small, and sequential floating-point
 //! order makes the results byte-identical whatever the thread count.
 
-use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::{Mat, Par, Side};
 
 /// Failure of a dense solve, with the index where it happened.
 #[derive(Debug, Clone, PartialEq)]
 pub enum DenseError {
     /// The matrix that had to be positive definite has a non-positive pivot at this index.
-    NotPositiveDefinite { index: usize },
+    NotPositiveDefinite {
+        index: usize,
+    },
     NoConvergence,
 }
 
@@ -44,11 +48,18 @@ fn sym_eigen(a: &Mat<f64>, vectors: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)
     }
     let s = a * faer::Scale(1.0 / scale);
     if vectors {
-        let evd = s.self_adjoint_eigen(Side::Lower).map_err(|_| DenseError::NoConvergence)?;
+        let evd = s
+            .self_adjoint_eigen(Side::Lower)
+            .map_err(|_| DenseError::NoConvergence)?;
         let d = evd.S().column_vector();
-        Ok(((0..n).map(|i| d[i] * scale).collect(), Some(evd.U().to_owned())))
+        Ok((
+            (0..n).map(|i| d[i] * scale).collect(),
+            Some(evd.U().to_owned()),
+        ))
     } else {
-        let d = s.self_adjoint_eigenvalues(Side::Lower).map_err(|_| DenseError::NoConvergence)?;
+        let d = s
+            .self_adjoint_eigenvalues(Side::Lower)
+            .map_err(|_| DenseError::NoConvergence)?;
         Ok((d.into_iter().map(|x| x * scale).collect(), None))
     }
 }
@@ -92,7 +103,11 @@ pub fn buckling_factor(k: &Mat<f64>, kg: &Mat<f64>) -> Result<Option<f64>, Dense
     let max = mu.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let span = mu.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
     // A μ at round-off level relative to the spectrum is a zero: no buckling direction.
-    Ok(if max > 1e-12 * span { Some(1.0 / max) } else { None })
+    Ok(if max > 1e-12 * span {
+        Some(1.0 / max)
+    } else {
+        None
+    })
 }
 
 /// Solves K·u = f for symmetric positive-definite K.

@@ -32,7 +32,14 @@ pub struct Dir6 {
 
 impl Dir6 {
     pub fn from_array(a: [f64; 6]) -> Dir6 {
-        Dir6 { x: a[0], y: a[1], z: a[2], rx: a[3], ry: a[4], rz: a[5] }
+        Dir6 {
+            x: a[0],
+            y: a[1],
+            z: a[2],
+            rx: a[3],
+            ry: a[4],
+            rz: a[5],
+        }
     }
     pub fn to_array(self) -> [f64; 6] {
         [self.x, self.y, self.z, self.rx, self.ry, self.rz]
@@ -105,7 +112,19 @@ pub struct ModalSystem {
 
 fn dof_err(model: &FeModel, red: &Reduction, index: usize, massless: bool) -> FemError {
     let (node, dof, dof_name) = model.dof_label(red.red_to_full[index]);
-    if massless { FemError::MasslessDof { node, dof, dof_name } } else { FemError::Unconstrained { node, dof, dof_name } }
+    if massless {
+        FemError::MasslessDof {
+            node,
+            dof,
+            dof_name,
+        }
+    } else {
+        FemError::Unconstrained {
+            node,
+            dof,
+            dof_name,
+        }
+    }
 }
 
 /// Runs the prestress and the eigen-solve.
@@ -138,18 +157,26 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
         let kd = to_dense(red.n_red, &k0);
         let f = red.reduce_vec(&loads);
         let u_red = dense::solve_spd(&kd, &f).map_err(|e| match e {
-            dense::DenseError::NotPositiveDefinite { index } => crate::Error::from(dof_err(model, &red, index, false)),
-            dense::DenseError::NoConvergence => ModalError::NoConvergence("static solve".into()).into(),
+            dense::DenseError::NotPositiveDefinite { index } => {
+                crate::Error::from(dof_err(model, &red, index, false))
+            }
+            dense::DenseError::NoConvergence => {
+                ModalError::NoConvergence("static solve".into()).into()
+            }
         })?;
         let u = red.expand(&u_red);
         let axial = element_axial_forces(model, &u);
         let kg = red.reduce(&model.geometric_stiffness(&axial));
         let kgd = to_dense(red.n_red, &kg);
-        let lambda = dense::buckling_factor(&kd, &kgd).map_err(|_| ModalError::NoConvergence("buckling".into()))?;
+        let lambda = dense::buckling_factor(&kd, &kgd)
+            .map_err(|_| ModalError::NoConvergence("buckling".into()))?;
         let mut members: Vec<MemberForce> = Vec::new();
         for (e, b) in model.beams.iter().enumerate() {
             if members.len() <= b.member {
-                members.push(MemberForce { name: model.member_names[b.member].clone(), axial_force_n: axial[e] });
+                members.push(MemberForce {
+                    name: model.member_names[b.member].clone(),
+                    axial_force_n: axial[e],
+                });
             }
         }
         k.extend(kg);
@@ -164,8 +191,12 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
     let kd = to_dense(red.n_red, &k);
     let md = to_dense(red.n_red, &m);
     let (lambda, phi) = dense::generalized(&kd, &md).map_err(|e| match e {
-        dense::DenseError::NotPositiveDefinite { index } => crate::Error::from(dof_err(model, &red, index, true)),
-        dense::DenseError::NoConvergence => ModalError::NoConvergence("dense eigen-solve".into()).into(),
+        dense::DenseError::NotPositiveDefinite { index } => {
+            crate::Error::from(dof_err(model, &red, index, true))
+        }
+        dense::DenseError::NoConvergence => {
+            ModalError::NoConvergence("dense eigen-solve".into()).into()
+        }
     })?;
 
     let two_pi = 2.0 * std::f64::consts::PI;
@@ -180,8 +211,21 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
     let shapes: Vec<(f64, Vec<f64>)> = (0..keep)
         .map(|c| (lambda[c], (0..red.n_red).map(|r| phi[(r, c)]).collect()))
         .collect();
-    let result = modal_result(model, &red, &m_full, &m, shapes, "dense (faer self-adjoint eigen)", prestress);
-    Ok(ModalSystem { reduction: red, k, m, result })
+    let result = modal_result(
+        model,
+        &red,
+        &m_full,
+        &m,
+        shapes,
+        "dense (faer self-adjoint eigen)",
+        prestress,
+    );
+    Ok(ModalSystem {
+        reduction: red,
+        k,
+        m,
+        result,
+    })
 }
 
 /// Axial force of every beam element from a full displacement vector (tension positive).
@@ -193,7 +237,8 @@ pub fn element_axial_forces(model: &FeModel, u: &[f64]) -> Vec<f64> {
             let (a, c) = (6 * b.nodes[0], 6 * b.nodes[1]);
             let du = [u[c] - u[a], u[c + 1] - u[a + 1], u[c + 2] - u[a + 2]];
             let ex = b.rot[0];
-            b.props.e * b.props.sec.area / b.length * (ex[0] * du[0] + ex[1] * du[1] + ex[2] * du[2])
+            b.props.e * b.props.sec.area / b.length
+                * (ex[0] * du[0] + ex[1] * du[1] + ex[2] * du[2])
         })
         .collect()
 }
@@ -253,7 +298,13 @@ pub fn modal_result(
                 }
             }
             let eff = gamma.map(|g| g * g);
-            let frac: [f64; 6] = std::array::from_fn(|a| if rb_total[a] > 0.0 { eff[a] / rb_total[a] } else { 0.0 });
+            let frac: [f64; 6] = std::array::from_fn(|a| {
+                if rb_total[a] > 0.0 {
+                    eff[a] / rb_total[a]
+                } else {
+                    0.0
+                }
+            });
             let f = lambda.signum() * lambda.abs().sqrt() / two_pi;
             Mode {
                 index: idx + 1,
@@ -305,7 +356,12 @@ fn align_degenerate(mut pairs: Vec<(f64, Vec<f64>)>, md: &[[f64; 6]]) -> Vec<(f6
                     g
                 })
                 .collect();
-            let gnorm: f64 = gamma.iter().flat_map(|g| g.iter()).map(|x| x * x).sum::<f64>().sqrt();
+            let gnorm: f64 = gamma
+                .iter()
+                .flat_map(|g| g.iter())
+                .map(|x| x * x)
+                .sum::<f64>()
+                .sqrt();
             let mut q: Vec<Vec<f64>> = Vec::new();
             let candidates = (0..6)
                 .map(|a| (0..k).map(|i| gamma[i][a]).collect::<Vec<f64>>())

@@ -68,9 +68,13 @@ impl Scene {
     pub fn parse(path: &Path, text: &str) -> Result<Scene, SpecError> {
         let loc = Locator::new(path, text)?;
         loc.check_finite()?;
-        let file: SceneFile = toml::from_str(text).map_err(|e| loc.from_toml(&e))?;
+        let file: SceneFile = toml::from_str(text).map_err(|e| loc.toml_error(&e))?;
         model::validate(&file, &loc)?;
-        Ok(Scene { path: path.to_path_buf(), text: text.to_string(), file })
+        Ok(Scene {
+            path: path.to_path_buf(),
+            text: text.to_string(),
+            file,
+        })
     }
 
     /// A locator for errors found after loading (e.g. a massless DOF at a node).
@@ -80,7 +84,10 @@ impl Scene {
 
     /// A short name for reports: the file stem.
     pub fn name(&self) -> String {
-        self.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
+        self.path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scene".into())
     }
 }
 
@@ -103,18 +110,31 @@ impl Locator {
                 message: format!("invalid TOML: {}", e.message().trim()),
             }
         })?;
-        Ok(Locator { path: path.to_path_buf(), text: text.to_string(), doc })
+        Ok(Locator {
+            path: path.to_path_buf(),
+            text: text.to_string(),
+            doc,
+        })
     }
 
     /// An error at the key `path` (dotted, with `[i]` indices), located in the file.
     pub fn err(&self, key: &str, message: impl Into<String>) -> SpecError {
         let (line, column) = self.find(key).unwrap_or((0, 0));
-        SpecError { file: self.path.clone(), line, column, key: key.to_string(), message: message.into() }
+        SpecError {
+            file: self.path.clone(),
+            line,
+            column,
+            key: key.to_string(),
+            message: message.into(),
+        }
     }
 
-    fn from_toml(&self, e: &toml::de::Error) -> SpecError {
+    fn toml_error(&self, e: &toml::de::Error) -> SpecError {
         let span = e.span();
-        let (line, column) = span.as_ref().map(|s| line_col(&self.text, s.start)).unwrap_or((0, 0));
+        let (line, column) = span
+            .as_ref()
+            .map(|s| line_col(&self.text, s.start))
+            .unwrap_or((0, 0));
         let key = span.map(|s| self.path_at(s.start)).unwrap_or_default();
         SpecError {
             file: self.path.clone(),
@@ -132,8 +152,12 @@ impl Locator {
         let mut best: Option<std::ops::Range<usize>> = None;
         for (name, index) in split_path(key) {
             let next = {
-                let Some(table) = item.as_table_like() else { break };
-                let Some((k, v)) = table.get_key_value(&name) else { break };
+                let Some(table) = item.as_table_like() else {
+                    break;
+                };
+                let Some((k, v)) = table.get_key_value(&name) else {
+                    break;
+                };
                 best = k.span().or_else(|| v.span()).or(best);
                 v.clone()
             };
@@ -168,7 +192,11 @@ impl Locator {
                 toml_edit::Item::Table(t) => {
                     for (k, v) in t.iter() {
                         let key = t.key(k).and_then(|k| k.span());
-                        let p = if prefix.is_empty() { k.to_string() } else { format!("{prefix}.{k}") };
+                        let p = if prefix.is_empty() {
+                            k.to_string()
+                        } else {
+                            format!("{prefix}.{k}")
+                        };
                         let inside = key.as_ref().is_some_and(|s| s.contains(&offset))
                             || v.span().is_some_and(|s| s.contains(&offset));
                         if inside {
@@ -213,18 +241,19 @@ impl Locator {
         for (k, v) in self.doc.iter() {
             if let Some(a) = v.as_array_of_tables() {
                 for (i, t) in a.iter().enumerate() {
-                    if let Some(s) = t.span() {
-                        if s.start <= offset && s.start >= best.0 {
-                            best = (s.start, format!("{k}[{i}]"));
-                        }
+                    if let Some(s) = t.span()
+                        && s.start <= offset
+                        && s.start >= best.0
+                    {
+                        best = (s.start, format!("{k}[{i}]"));
                     }
                 }
-            } else if let Some(t) = v.as_table() {
-                if let Some(s) = t.span() {
-                    if s.start <= offset && s.start >= best.0 {
-                        best = (s.start, k.to_string());
-                    }
-                }
+            } else if let Some(t) = v.as_table()
+                && let Some(s) = t.span()
+                && s.start <= offset
+                && s.start >= best.0
+            {
+                best = (s.start, k.to_string());
             }
         }
         best.1
@@ -237,13 +266,21 @@ impl Locator {
             match item {
                 toml_edit::Item::Table(t) => {
                     for (k, v) in t.iter() {
-                        let p = if path.is_empty() { k.to_string() } else { format!("{path}.{k}") };
+                        let p = if path.is_empty() {
+                            k.to_string()
+                        } else {
+                            format!("{path}.{k}")
+                        };
                         walk(v, p, loc)?;
                     }
                 }
                 toml_edit::Item::ArrayOfTables(a) => {
                     for (i, t) in a.iter().enumerate() {
-                        walk(&toml_edit::Item::Table(t.clone()), format!("{path}[{i}]"), loc)?;
+                        walk(
+                            &toml_edit::Item::Table(t.clone()),
+                            format!("{path}[{i}]"),
+                            loc,
+                        )?;
                     }
                 }
                 toml_edit::Item::Value(v) => value(v, path, loc)?,
@@ -254,7 +291,10 @@ impl Locator {
         fn value(v: &toml_edit::Value, path: String, loc: &Locator) -> Result<(), SpecError> {
             match v {
                 toml_edit::Value::Float(f) if !f.value().is_finite() => {
-                    let (line, column) = v.span().map(|s| line_col(&loc.text, s.start)).unwrap_or((0, 0));
+                    let (line, column) = v
+                        .span()
+                        .map(|s| line_col(&loc.text, s.start))
+                        .unwrap_or((0, 0));
                     return Err(SpecError {
                         file: loc.path.clone(),
                         line,
@@ -300,6 +340,11 @@ pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let offset = offset.min(text.len());
     let before = &text[..offset];
     let line = before.matches('\n').count() + 1;
-    let col = before.rsplit('\n').next().map(|s| s.chars().count()).unwrap_or(0) + 1;
+    let col = before
+        .rsplit('\n')
+        .next()
+        .map(|s| s.chars().count())
+        .unwrap_or(0)
+        + 1;
     (line, col)
 }

@@ -138,7 +138,11 @@ pub struct Support {
 impl Support {
     /// The fixed DOF indices 0..6.
     pub fn dof_indices(&self) -> Vec<usize> {
-        self.dofs.chars().filter_map(|c| c.to_digit(10)).map(|d| d as usize - 1).collect()
+        self.dofs
+            .chars()
+            .filter_map(|c| c.to_digit(10))
+            .map(|d| d as usize - 1)
+            .collect()
     }
 }
 
@@ -184,7 +188,10 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         positive(loc, &k("youngs_modulus_pa"), m.youngs_modulus_pa)?;
         positive(loc, &k("density_kg_m3"), m.density_kg_m3)?;
         if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
-            return Err(loc.err(&k("poisson_ratio"), format!("must lie in (-1, 0.5), got {}", m.poisson_ratio)));
+            return Err(loc.err(
+                &k("poisson_ratio"),
+                format!("must lie in (-1, 0.5), got {}", m.poisson_ratio),
+            ));
         }
         if let Some(v) = m.yield_strength_pa {
             positive(loc, &k("yield_strength_pa"), v)?;
@@ -196,28 +203,43 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
     let mut sections = HashSet::new();
     for (i, s) in f.section.iter().enumerate() {
         if !sections.insert(s.name.as_str()) {
-            return Err(loc.err(&format!("section[{i}].name"), format!("duplicate section name `{}`", s.name)));
+            return Err(loc.err(
+                &format!("section[{i}].name"),
+                format!("duplicate section name `{}`", s.name),
+            ));
         }
         validate_section(s, i, loc)?;
     }
     let mut nodes: HashMap<i64, [f64; 3]> = HashMap::new();
     for (i, n) in f.node.iter().enumerate() {
         if nodes.insert(n.id, n.position_m).is_some() {
-            return Err(loc.err(&format!("node[{i}].id"), format!("duplicate node id {}", n.id)));
+            return Err(loc.err(
+                &format!("node[{i}].id"),
+                format!("duplicate node id {}", n.id),
+            ));
         }
     }
     let node_ref = |key: String, id: i64| -> Result<[f64; 3], SpecError> {
-        nodes.get(&id).copied().ok_or_else(|| loc.err(&key, format!("node {id} is not defined")))
+        nodes
+            .get(&id)
+            .copied()
+            .ok_or_else(|| loc.err(&key, format!("node {id} is not defined")))
     };
     for (i, b) in f.beam.iter().enumerate() {
         let k = |s: &str| format!("beam[{i}].{s}");
         let a = node_ref(k("nodes"), b.nodes[0])?;
         let c = node_ref(k("nodes"), b.nodes[1])?;
         if !sections.contains(b.section.as_str()) {
-            return Err(loc.err(&k("section"), format!("section `{}` is not defined", b.section)));
+            return Err(loc.err(
+                &k("section"),
+                format!("section `{}` is not defined", b.section),
+            ));
         }
         if !materials.contains(b.material.as_str()) {
-            return Err(loc.err(&k("material"), format!("material `{}` is not defined", b.material)));
+            return Err(loc.err(
+                &k("material"),
+                format!("material `{}` is not defined", b.material),
+            ));
         }
         if b.elements == 0 {
             return Err(loc.err(&k("elements"), "must be at least 1"));
@@ -228,7 +250,10 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         if len <= 1e-12 * scale {
             return Err(loc.err(
                 &k("nodes"),
-                format!("the beam's nodes {} and {} coincide: a beam needs a length", b.nodes[0], b.nodes[1]),
+                format!(
+                    "the beam's nodes {} and {} coincide: a beam needs a length",
+                    b.nodes[0], b.nodes[1]
+                ),
             ));
         }
         if let Some(o) = b.orientation {
@@ -262,7 +287,10 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         for (j, s) in r.slaves.iter().enumerate() {
             node_ref(format!("rigid[{i}].slaves[{j}]"), *s)?;
             if *s == r.master {
-                return Err(loc.err(&format!("rigid[{i}].slaves[{j}]"), "a node cannot be its own slave"));
+                return Err(loc.err(
+                    &format!("rigid[{i}].slaves[{j}]"),
+                    "a node cannot be its own slave",
+                ));
             }
             if !slaves_seen.insert(*s) {
                 return Err(loc.err(
@@ -284,7 +312,10 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         node_ref(format!("spring[{i}].nodes"), s.nodes[0])?;
         node_ref(format!("spring[{i}].nodes"), s.nodes[1])?;
         if s.nodes[0] == s.nodes[1] {
-            return Err(loc.err(&format!("spring[{i}].nodes"), "a spring needs two different nodes"));
+            return Err(loc.err(
+                &format!("spring[{i}].nodes"),
+                "a spring needs two different nodes",
+            ));
         }
         for (j, v) in s.stiffness.iter().enumerate() {
             nonneg(loc, &format!("spring[{i}].stiffness[{j}]"), *v)?;
@@ -295,7 +326,10 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         if s.dofs.is_empty() || !s.dofs.chars().all(|c| ('1'..='6').contains(&c)) {
             return Err(loc.err(
                 &format!("support[{i}].dofs"),
-                format!("`{}` is not a DOF list: use digits 1-6 (1-3 translations, 4-6 rotations)", s.dofs),
+                format!(
+                    "`{}` is not a DOF list: use digits 1-6 (1-3 translations, 4-6 rotations)",
+                    s.dofs
+                ),
             ));
         }
     }
@@ -304,7 +338,9 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
     }
     if let Some(m) = &f.modal {
         match (m.fmax_hz, m.modes) {
-            (Some(_), Some(_)) => return Err(loc.err("modal", "give either `fmax_hz` or `modes`, not both")),
+            (Some(_), Some(_)) => {
+                return Err(loc.err("modal", "give either `fmax_hz` or `modes`, not both"));
+            }
             (Some(fm), None) => positive(loc, "modal.fmax_hz", fm)?,
             (None, Some(0)) => return Err(loc.err("modal.modes", "must be at least 1")),
             _ => {}
@@ -343,7 +379,9 @@ fn validate_section(s: &Section, i: usize, loc: &Locator) -> Result<(), SpecErro
         match v {
             Some(x) => {
                 if !required.contains(&name) && !optional.contains(&name) {
-                    return Err(loc.err(&k(name), format!("does not apply to a {} section", s.shape)));
+                    return Err(
+                        loc.err(&k(name), format!("does not apply to a {} section", s.shape))
+                    );
                 }
                 positive(loc, &k(name), x)?;
             }
@@ -353,23 +391,31 @@ fn validate_section(s: &Section, i: usize, loc: &Locator) -> Result<(), SpecErro
             None => {}
         }
     }
-    if let (Some(o), Some(inner)) = (s.outer_diameter_m, s.inner_diameter_m) {
-        if inner >= o {
-            return Err(loc.err(
-                &k("inner_diameter_m"),
-                format!("the inner diameter {inner} m must be smaller than the outer diameter {o} m"),
-            ));
-        }
+    if let (Some(o), Some(inner)) = (s.outer_diameter_m, s.inner_diameter_m)
+        && inner >= o
+    {
+        return Err(loc.err(
+            &k("inner_diameter_m"),
+            format!("the inner diameter {inner} m must be smaller than the outer diameter {o} m"),
+        ));
     }
     Ok(())
 }
 
 fn positive(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
-    if v > 0.0 { Ok(()) } else { Err(loc.err(key, format!("must be positive, got {v}"))) }
+    if v > 0.0 {
+        Ok(())
+    } else {
+        Err(loc.err(key, format!("must be positive, got {v}")))
+    }
 }
 
 fn nonneg(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
-    if v >= 0.0 { Ok(()) } else { Err(loc.err(key, format!("must not be negative, got {v}"))) }
+    if v >= 0.0 {
+        Ok(())
+    } else {
+        Err(loc.err(key, format!("must not be negative, got {v}")))
+    }
 }
 
 pub(crate) fn norm(v: [f64; 3]) -> f64 {

@@ -72,7 +72,10 @@ pub struct InterfaceSpec {
 impl StackSpec {
     /// Positions (x, y) of the four columns, ordered (+,+), (−,+), (−,−), (+,−).
     pub fn column_xy(&self) -> [[f64; 2]; 4] {
-        let (hx, hy) = (0.5 * self.column_spacing_m[0], 0.5 * self.column_spacing_m[1]);
+        let (hx, hy) = (
+            0.5 * self.column_spacing_m[0],
+            0.5 * self.column_spacing_m[1],
+        );
         [[hx, hy], [-hx, hy], [-hx, -hy], [hx, -hy]]
     }
 
