@@ -21,7 +21,7 @@ fn modal_json_contract() {
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout is JSON");
     // 20×20 mm × 1 m steel: 3.14 kg.
-    assert!((v["total_mass_kg"].as_f64().unwrap() - 3.14).abs() < 1e-9);
+    assert!((v["total_mass_kg"].as_f64().unwrap() - 0.02 * 0.02 * 1.0 * 7850.0).abs() < 1e-9);
     let modes = v["modes"].as_array().unwrap();
     assert_eq!(modes.len(), 10, "[modal] modes = 10");
     assert_eq!(modes[0]["index"], 1);
