@@ -15,7 +15,8 @@ use serde::{Deserialize, Serialize};
 pub struct StackSpec {
     /// Number of satellites.
     pub satellites: usize,
-    /// Mass of one satellite (structure, devices and its four columns), kg.
+    /// Mass of one satellite without its four load-bearing columns (their mass comes from the
+    /// column material and section), kg.
     pub satellite_mass_kg: f64,
     /// Principal moments of inertia about the satellite's CG, axes x, y, z, kg·m².
     pub satellite_inertia_kg_m2: [f64; 3],
