@@ -15,7 +15,7 @@ pub fn modal(
     fmax_hz: Option<f64>,
     modes: Option<usize>,
 ) -> Result<(FeModel, ModalSystem), Error> {
-    let model = FeModel::from_scene(&scene.file).map_err(|e| locate(scene, e))?;
+    let model = FeModel::from_scene(&scene.model).map_err(|e| locate(scene, e))?;
     let spec = scene.file.modal.clone().unwrap_or_default();
     let opts = match (fmax_hz, modes) {
         (None, None) => ModalOptions {
@@ -33,6 +33,24 @@ pub fn modal(
         Error::Fem(f) => locate(scene, f),
         other => other,
     })?;
+    if let (Some(stack), Some(ps)) = (&scene.file.stack, &sys.result.prestress) {
+        if let Some(lambda) = ps.buckling_factor {
+            if lambda < 1.0 {
+                return Err(scene
+                    .locator()
+                    .err(
+                        "stack.preload_total_n",
+                        format!(
+                            "the preload of {:.0} N is above the stack's buckling load of {:.0} N (buckling factor {:.3}): reduce the preload or stiffen the columns",
+                            stack.preload_total_n,
+                            lambda * stack.preload_total_n,
+                            lambda
+                        ),
+                    )
+                    .into());
+            }
+        }
+    }
     Ok((model, sys))
 }
 

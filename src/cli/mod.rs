@@ -8,6 +8,7 @@ use std::io::Write;
 
 mod bench;
 mod bench_fem;
+mod expand;
 mod modal;
 
 #[derive(Parser, Debug)]
@@ -25,6 +26,8 @@ pub struct Cli {
 pub enum Command {
     /// Natural frequencies, effective masses and (with static loads) the buckling factor.
     Modal(modal::Args),
+    /// Write a [stack] scene out as the generic model (TOML) on stdout.
+    Expand(expand::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -40,6 +43,7 @@ pub enum Outcome {
 pub fn run(cli: Cli) -> Result<Outcome, Error> {
     match cli.command {
         Command::Modal(a) => modal::run(a),
+        Command::Expand(a) => expand::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }
