@@ -7,7 +7,9 @@ use satqual::Error;
 use std::io::Write;
 
 mod bench;
+mod bench_separation;
 mod modal;
+mod separate;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -24,6 +26,8 @@ pub struct Cli {
 pub enum Command {
     /// Natural frequencies, effective masses and (with static loads) the buckling factor.
     Modal(modal::Args),
+    /// In-orbit release: separation dynamics of the stack, optionally a Monte Carlo.
+    Separate(separate::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -38,6 +42,7 @@ pub enum Outcome {
 pub fn run(cli: Cli) -> Result<Outcome, Error> {
     match cli.command {
         Command::Modal(a) => modal::run(a),
+        Command::Separate(a) => separate::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }
