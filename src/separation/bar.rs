@@ -71,7 +71,17 @@ pub struct ModalBar {
     pub damping_ratio: f64,
     pub shapes: Vec<Spline>,
     pub frequencies_hz: Vec<f64>,
+    /// Station values and spline moments interleaved by mode, `[station * n_modes + mode]`,
+    /// so one interval search serves every mode.
+    y: Vec<f64>,
+    m: Vec<f64>,
+    h: f64,
+    /// Bound of |φ_j| on each of `BINS` equal segments of the bar, `[mode * BINS + bin]`.
+    bin_max: Vec<f64>,
 }
+
+/// Segments of the bar for the per-height deflection bound.
+const BINS: usize = 32;
 
 impl ModalBar {
     pub fn new(
@@ -98,17 +108,76 @@ impl ModalBar {
                 return Err(SeparationError::Invalid("guide-bar modes: stations are not uniform".into()));
             }
         }
+        let shapes: Vec<Spline> = modes.shapes.iter().take(n_modes).map(|s| Spline::new(h, s.clone())).collect();
+        let ns = st.len();
+        let mut y = vec![0.0; ns * n_modes];
+        let mut m = vec![0.0; ns * n_modes];
+        for (j, sp) in shapes.iter().enumerate() {
+            for k in 0..ns {
+                y[k * n_modes + j] = sp.y[k];
+                m[k * n_modes + j] = sp.m[k];
+            }
+        }
+        // Per-segment bound of |φ|: sample the spline densely, then add 10% for what the
+        // samples miss between them.
+        let mut bin_max = vec![0.0; n_modes * BINS];
+        for (j, sp) in shapes.iter().enumerate() {
+            for b in 0..BINS {
+                let (z0, z1) = (length_m * b as f64 / BINS as f64, length_m * (b + 1) as f64 / BINS as f64);
+                let mut mx = 0.0f64;
+                for k in 0..=16 {
+                    mx = mx.max(sp.eval(z0 + (z1 - z0) * k as f64 / 16.0).0.abs());
+                }
+                bin_max[j * BINS + b] = 1.1 * mx;
+            }
+        }
         Ok(ModalBar {
             length_m,
-            omega: modes.frequencies_hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect(),
+            omega: modes.frequencies_hz.iter().take(n_modes).map(|f| 2.0 * std::f64::consts::PI * f).collect(),
             damping_ratio,
-            shapes: modes.shapes.iter().map(|s| Spline::new(h, s.clone())).collect(),
-            frequencies_hz: modes.frequencies_hz.clone(),
+            shapes,
+            frequencies_hz: modes.frequencies_hz.iter().take(n_modes).copied().collect(),
+            y,
+            m,
+            h,
+            bin_max,
         })
     }
 
     pub fn n_modes(&self) -> usize {
         self.omega.len()
+    }
+
+    /// φ_j(z) and φ_j'(z) of every mode into `phi`, `dphi` (one interval search for all).
+    #[inline]
+    pub fn eval_all(&self, z: f64, phi: &mut [f64], dphi: &mut [f64]) {
+        let nm = self.omega.len();
+        let ns = self.y.len() / nm;
+        let h = self.h;
+        let x = z.clamp(0.0, h * (ns - 1) as f64);
+        let i = ((x / h) as usize).min(ns - 2);
+        let t = x - i as f64 * h;
+        let a = (h - t) / h;
+        let b = t / h;
+        let ca = (a * a * a - a) * h * h / 6.0;
+        let cb = (b * b * b - b) * h * h / 6.0;
+        let da = (1.0 - 3.0 * a * a) * h / 6.0;
+        let db = (3.0 * b * b - 1.0) * h / 6.0;
+        let (y0, y1) = (&self.y[i * nm..i * nm + nm], &self.y[(i + 1) * nm..(i + 1) * nm + nm]);
+        let (m0, m1) = (&self.m[i * nm..i * nm + nm], &self.m[(i + 1) * nm..(i + 1) * nm + nm]);
+        for j in 0..nm {
+            phi[j] = a * y0[j] + b * y1[j] + ca * m0[j] + cb * m1[j];
+            dphi[j] = (y1[j] - y0[j]) / h + da * m0[j] + db * m1[j];
+        }
+    }
+
+    /// Bound of |φ_j| at height z, for every mode (cheap test that an edge cannot touch).
+    #[inline]
+    pub fn bound_at(&self, z: f64, out: &mut [f64]) {
+        let b = ((z / self.length_m * BINS as f64).max(0.0) as usize).min(BINS - 1);
+        for (j, o) in out.iter_mut().enumerate().take(self.omega.len()) {
+            *o = self.bin_max[j * BINS + b];
+        }
     }
 }
 

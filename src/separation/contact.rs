@@ -110,6 +110,14 @@ pub struct Transitions {
     pub detached_to_free: usize,
     /// A detached edge that is hit again before its next free step.
     pub detached_to_collision: usize,
+    /// Onsets found at a step end rather than located as an event (δ ≥ 0 already at the
+    /// start of a step: zero clearance, or a re-contact right after an exit). Their impact
+    /// speed is latched at the step end, so they are the part of the run that depends on
+    /// the step sequence.
+    pub late_onsets: usize,
+    /// Onsets found inside a step whose two ends both had δ < 0 (a pulse shorter than the
+    /// step), located through the cubic interpolant of δ and the dense output.
+    pub hidden_onsets: usize,
 }
 
 impl Transitions {
@@ -133,6 +141,8 @@ impl Transitions {
         self.contact_to_detached += o.contact_to_detached;
         self.detached_to_free += o.detached_to_free;
         self.detached_to_collision += o.detached_to_collision;
+        self.late_onsets += o.late_onsets;
+        self.hidden_onsets += o.hidden_onsets;
     }
 }
 
