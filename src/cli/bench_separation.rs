@@ -53,9 +53,13 @@ struct Bench {
     default_tolerance: f64,
     rows: Vec<Row>,
     variants: Vec<Variant>,
-    /// |Δ exit speed| per satellite when the nominal spring stiffness changes by 1e-9
+    /// |Δ exit speed| per satellite when the nominal spring stiffness changes by 1e-12
     /// (relative), both runs at the reference tolerance, m/s.
-    sensitivity_to_1e9_input_change_m_s: Vec<f64>,
+    sensitivity_to_1e12_input_change_m_s: Vec<f64>,
+    /// The same with rigid bars.
+    sensitivity_rigid_bars_m_s: Vec<f64>,
+    /// (Ce, effective restitution) of one lateral LN impact of satellite 1 on rigid bars.
+    ln_restitution: Vec<(f64, f64)>,
 }
 
 fn timed(model: &Model) -> Result<(SeparationResult, f64), Error> {
@@ -128,25 +132,43 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         s.stiffness_n_m = ideal_stiffness(&scene);
     }
     variant("ideal springs (no error, no contact)", ideal)?;
-    let mut p = base.clone();
-    p.tolerance = ref_tol;
-    for s in p.springs.iter_mut() {
-        s.stiffness_n_m *= 1.0 + 1e-9;
+    let sensitivity = |m: &Model| -> Result<Vec<f64>, Error> {
+        let mut a = m.clone();
+        a.tolerance = ref_tol;
+        let mut b = a.clone();
+        for s in b.springs.iter_mut() {
+            s.stiffness_n_m *= 1.0 + 1e-12;
+        }
+        let (ra, rb) = (separation::run(&a, &RunOptions::default())?, separation::run(&b, &RunOptions::default())?);
+        Ok(ra.satellites.iter().zip(&rb.satellites).map(|(x, y)| (x.final_speed_m_s - y.final_speed_m_s).abs()).collect())
+    };
+    let sens_flex = sensitivity(&base)?;
+    let mut rigid = base.clone();
+    rigid.bars = None;
+    let sens_rigid = sensitivity(&rigid)?;
+    let mut ln = Vec::new();
+    for ce in [0.5, 0.8, 0.9] {
+        let mut m = base.clone();
+        m.bars = None;
+        m.contact.restitution = ce;
+        m.contact.friction = 0.0;
+        m.release_times_s.iter_mut().for_each(|t| *t = None);
+        let v0 = 0.01;
+        m.satellites[0].initial_velocity_m_s = [v0, 0.0, 0.0];
+        m.max_time_s = 1.5 * m.clearance_m / v0;
+        m.tolerance = 1e-10;
+        let r = separation::run(&m, &RunOptions::default())?;
+        ln.push((ce, -r.satellites[0].final_velocity_m_s[0] / v0));
     }
-    let perturbed = separation::run(&p, &RunOptions::default())?;
-    let sensitivity = reference
-        .satellites
-        .iter()
-        .zip(&perturbed.satellites)
-        .map(|(a, b)| (a.final_speed_m_s - b.final_speed_m_s).abs())
-        .collect();
     let bench = Bench {
         scene: SCENE.into(),
         reference_tolerance: ref_tol,
         default_tolerance: default_tol,
         rows,
         variants,
-        sensitivity_to_1e9_input_change_m_s: sensitivity,
+        sensitivity_to_1e12_input_change_m_s: sens_flex,
+        sensitivity_rigid_bars_m_s: sens_rigid,
+        ln_restitution: ln,
     };
     let json = serde_json::to_string_pretty(&bench).map_err(|e| Error::Other(e.to_string()))?;
     write_atomic(&out.join("separation.json"), json.as_bytes())?;
@@ -202,12 +224,16 @@ fn markdown(b: &Bench) -> String {
     let _ = writeln!(s, "\n## Conditioning\n");
     let _ = writeln!(
         s,
-        "|Δ exit speed| per satellite after a 1e-9 relative change of the spring stiffness, both at tolerance {:e}:",
+        "|Δ exit speed| after a 1e-12 relative change of every spring stiffness, both runs at tolerance {:e} (flexible bars / rigid bars):\n",
         b.reference_tolerance
     );
-    let _ = writeln!(s);
-    for (i, d) in b.sensitivity_to_1e9_input_change_m_s.iter().enumerate() {
-        let _ = writeln!(s, "- satellite {}: {:.2e} m/s", i + 1, d);
+    for (i, (f, r)) in b.sensitivity_to_1e12_input_change_m_s.iter().zip(&b.sensitivity_rigid_bars_m_s).enumerate() {
+        let _ = writeln!(s, "- satellite {}: {:.2e} m/s / {:.2e} m/s", i + 1, f, r);
+    }
+    let _ = writeln!(s, "\n## Lankarani–Nikravesh effective restitution (one lateral impact, rigid bars)\n");
+    let _ = writeln!(s, "| Ce | effective |\n|---|---|");
+    for (ce, e) in &b.ln_restitution {
+        let _ = writeln!(s, "| {ce} | {e:.4} |");
     }
     s
 }

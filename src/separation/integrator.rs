@@ -65,6 +65,9 @@ pub struct Stats {
 pub enum StepFailure {
     /// The step underflowed the round-off floor at time t with step h.
     TooSmall { t: f64, h: f64 },
+    /// Every trial step from t, down to the round-off floor, produced a non-finite stage;
+    /// `index` is the first state component that went non-finite.
+    NonFinite { t: f64, index: usize },
 }
 
 pub struct Dopri5 {
@@ -254,6 +257,9 @@ impl Dopri5 {
         let mut rejected_once = false;
         loop {
             if h.abs() <= 1e-14 * self.t.abs().max(1.0) {
+                if let Some(index) = self.non_finite_stage() {
+                    return Err(StepFailure::NonFinite { t: self.t, index });
+                }
                 return Err(StepFailure::TooSmall { t: self.t, h });
             }
             let err = self.attempt(f, h);
@@ -285,6 +291,11 @@ impl Dopri5 {
             let shrink = if err.is_finite() { (fac11 / SAFE).min(5.0) } else { 5.0 };
             h /= shrink;
         }
+    }
+
+    /// The first component that is non-finite in the last trial's stages or result.
+    fn non_finite_stage(&self) -> Option<usize> {
+        (0..self.y.len()).find(|&i| !self.ytmp[i].is_finite() || self.k.iter().any(|k| !k[i].is_finite()))
     }
 
     /// The dense output at `t` in the last step [t_prev, t].

@@ -743,12 +743,22 @@ impl<'a> Sim<'a> {
             if ig.stats.steps >= m.max_steps {
                 return Err(SeparationError::TooManySteps { time_s: ig.t, max_steps: m.max_steps });
             }
+            // A non-finite derivative at an accepted state (e.g. a zero inertia under a torque)
+            // stops the run here, before any step spreads it.
+            if let Some(e) = self.non_finite(ig.t, ig.derivative()) {
+                return Err(e);
+            }
             let t_limit = if pending { releases[next_release] } else { m.max_time_s };
             {
                 let this = &*self;
                 let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| this.rhs(y, dy);
                 ig.step(&mut f, t_limit).map_err(|e| match e {
                     StepFailure::TooSmall { t, h } => SeparationError::StepTooSmall { time_s: t, step_s: h },
+                    StepFailure::NonFinite { t, index } => {
+                        let mut probe = vec![0.0; this.dim];
+                        probe[index] = f64::NAN;
+                        this.non_finite(t, &probe).expect("a NaN was placed")
+                    }
                 })?;
             }
             if let Some(e) = self.non_finite(ig.t, &ig.y) {
