@@ -30,22 +30,52 @@ fn ideal_release_peak_speed_is_the_analytic_spring_speed() {
         // Analytic (grounded lower body, reduced mass = m): v = √(Σk·s²/m) when the springs
         // reach their free length at the end stop (free = installed + stroke).
         let springs = &m.springs[4 * i..4 * i + 4];
-        let sum_ks2: f64 = springs.iter().map(|sp| sp.stiffness_n_m * sp.stroke_m * sp.stroke_m).sum();
+        let sum_ks2: f64 = springs
+            .iter()
+            .map(|sp| sp.stiffness_n_m * sp.stroke_m * sp.stroke_m)
+            .sum();
         let v = (sum_ks2 / m.satellites[i].mass_kg).sqrt();
-        assert!((s.max_speed_m_s - v).abs() / v < 1e-6, "sat {}: {} vs analytic {v}", i + 1, s.max_speed_m_s);
+        assert!(
+            (s.max_speed_m_s - v).abs() / v < 1e-6,
+            "sat {}: {} vs analytic {v}",
+            i + 1,
+            s.max_speed_m_s
+        );
         // Analytic peak acceleration Σk·s/m at the release instant.
-        let a: f64 = springs.iter().map(|sp| sp.stiffness_n_m * sp.stroke_m).sum::<f64>() / m.satellites[i].mass_kg;
-        assert!((s.max_accel_m_s2 - a).abs() / a < 1e-9, "sat {}: accel {} vs {a}", i + 1, s.max_accel_m_s2);
+        let a: f64 = springs
+            .iter()
+            .map(|sp| sp.stiffness_n_m * sp.stroke_m)
+            .sum::<f64>()
+            / m.satellites[i].mass_kg;
+        assert!(
+            (s.max_accel_m_s2 - a).abs() / a < 1e-9,
+            "sat {}: accel {} vs {a}",
+            i + 1,
+            s.max_accel_m_s2
+        );
         // Symmetric springs, centred CG: no torque, the rate stays zero.
-        assert!(s.peak_rate_deg_s < 1e-12, "sat {}: rate {}", i + 1, s.peak_rate_deg_s);
+        assert!(
+            s.peak_rate_deg_s < 1e-12,
+            "sat {}: rate {}",
+            i + 1,
+            s.peak_rate_deg_s
+        );
         assert_eq!(s.contacts, 0, "no contact in the ideal release");
         assert!(s.exit_time_s.is_some());
     }
     // The assumed springs reproduce paper §4: maximum speed 0.347 m/s (to the 3 digits the
     // paper gives, ±0.0005) and a peak acceleration "about 1.5 m/s²" (±1%).
     let s1 = &r.satellites[0];
-    assert!((s1.max_speed_m_s - 0.347).abs() < 5e-4, "{}", s1.max_speed_m_s);
-    assert!((s1.max_accel_m_s2 - 1.5).abs() < 0.015, "{}", s1.max_accel_m_s2);
+    assert!(
+        (s1.max_speed_m_s - 0.347).abs() < 5e-4,
+        "{}",
+        s1.max_speed_m_s
+    );
+    assert!(
+        (s1.max_accel_m_s2 - 1.5).abs() < 0.015,
+        "{}",
+        s1.max_accel_m_s2
+    );
 }
 
 /// A free carrier: the springs push two free bodies apart. Relative peak speed
@@ -96,7 +126,11 @@ inertia_kg_m2 = [100.0, 100.0, 150.0]
     let v_rel = (4.0 * 700.0 * 0.08f64.powi(2) / mu).sqrt();
     let v_sat = v_rel * mu / m1;
     let s = &r.satellites[0];
-    assert!((s.max_speed_m_s - v_sat).abs() / v_sat < 1e-6, "{} vs {v_sat}", s.max_speed_m_s);
+    assert!(
+        (s.max_speed_m_s - v_sat).abs() / v_sat < 1e-6,
+        "{} vs {v_sat}",
+        s.max_speed_m_s
+    );
     assert!(s.peak_rate_deg_s < 1e-12);
     // Energy is shared by both bodies: the audit closes.
     assert!(r.energy.max_relative_residual < 1e-8, "{:?}", r.energy);
@@ -111,7 +145,11 @@ fn energy_audit_closes_on_the_reference_scene() {
     assert!(r.energy.max_relative_residual < 1e-6, "{:?}", r.energy);
     // The audit is not vacuous: contacts and friction did dissipate energy.
     assert!(r.energy.friction_loss_j > 0.0 && r.energy.contact_damping_loss_j > 0.0);
-    assert!(r.satellites.iter().all(|s| s.exit_time_s.is_some() && s.contacts > 0));
+    assert!(
+        r.satellites
+            .iter()
+            .all(|s| s.exit_time_s.is_some() && s.contacts > 0)
+    );
     // Every contact that started also ended (eq. 38 cycle), up to edges still touching.
     let t = r.transitions;
     assert!(t.free_to_collision + t.detached_to_collision >= t.contact_to_detached);
@@ -138,15 +176,29 @@ fn exit_speeds_converge_with_tolerance() {
     for t in first.release_times_s.iter_mut().skip(1) {
         *t = None;
     }
-    for (name, mut m, n) in [("rigid bars, six releases", rigid, 6), ("flexible bars, first release", first, 1)] {
+    for (name, mut m, n) in [
+        ("rigid bars, six releases", rigid, 6),
+        ("flexible bars, first release", first, 1),
+    ] {
         let a = separation::run(&m, &RunOptions::default()).unwrap();
         m.tolerance = tol / 100.0;
         let b = separation::run(&m, &RunOptions::default()).unwrap();
         for i in 0..n {
             let (sa, sb) = (&a.satellites[i], &b.satellites[i]);
-            assert!(sa.contacts > 10, "{name}: satellite {} has contacts: {}", i + 1, sa.contacts);
+            assert!(
+                sa.contacts > 10,
+                "{name}: satellite {} has contacts: {}",
+                i + 1,
+                sa.contacts
+            );
             let d = (sa.final_speed_m_s - sb.final_speed_m_s).abs();
-            assert!(d < 1e-4, "{name}: satellite {}: {} vs {} (Δ {d:e})", i + 1, sa.final_speed_m_s, sb.final_speed_m_s);
+            assert!(
+                d < 1e-4,
+                "{name}: satellite {}: {} vs {} (Δ {d:e})",
+                i + 1,
+                sa.final_speed_m_s,
+                sb.final_speed_m_s
+            );
         }
         assert!(b.stats.steps > a.stats.steps);
     }

@@ -58,7 +58,10 @@ fn restitution(ce: f64) -> f64 {
     let r = separation::run(&m, &RunOptions::default()).unwrap();
     let s = &r.satellites[0];
     assert_eq!(s.contacts, 8, "one impact on the 8 bore edges");
-    assert_eq!(r.transitions.late_onsets, 0, "every onset was located as an event");
+    assert_eq!(
+        r.transitions.late_onsets, 0,
+        "every onset was located as an event"
+    );
     assert!(s.final_velocity_m_s[1].abs() < 1e-15 && s.final_velocity_m_s[2].abs() < 1e-15);
     -s.final_velocity_m_s[0] / v0
 }
@@ -70,7 +73,10 @@ fn restitution(ce: f64) -> f64 {
 fn ln_effective_restitution_matches_the_latched_model() {
     for (ce, expected) in [(0.5, 0.725), (0.8, 0.847), (0.9, 0.913)] {
         let e = restitution(ce);
-        assert!((e - expected).abs() <= 0.003, "Ce = {ce}: effective restitution {e}, expected {expected} ± 0.003");
+        assert!(
+            (e - expected).abs() <= 0.003,
+            "Ce = {ce}: effective restitution {e}, expected {expected} ± 0.003"
+        );
     }
 }
 
@@ -113,22 +119,46 @@ fn stress_sweep_finishes_finite_with_a_closed_energy_audit() {
     m.contact.stiffness = 1e11;
     m.clearance_m = 0.0;
     m.contact.friction = 0.5;
-    cases.push(("+30% springs, K = 1e11, zero clearance, friction 0.5".into(), m));
+    cases.push((
+        "+30% springs, K = 1e11, zero clearance, friction 0.5".into(),
+        m,
+    ));
 
-    let mut table = String::from("| case | steps | rejected | RHS evals | contacts | exit speed m/s | exit rate °/s | energy residual |\n|---|---|---|---|---|---|---|---|\n");
+    let mut table = String::from(
+        "| case | steps | rejected | RHS evals | contacts | exit speed m/s | exit rate °/s | energy residual |\n|---|---|---|---|---|---|---|---|\n",
+    );
     for (name, m) in &cases {
-        let r = separation::run(m, &RunOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let r =
+            separation::run(m, &RunOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
         let s = &r.satellites[0];
-        assert!(s.final_speed_m_s.is_finite() && s.final_rate_deg_s.is_finite(), "{name}");
+        assert!(
+            s.final_speed_m_s.is_finite() && s.final_rate_deg_s.is_finite(),
+            "{name}"
+        );
         assert!(s.exit_time_s.is_some(), "{name}: satellite 1 left the bars");
-        assert!(r.energy.max_relative_residual < 1e-6, "{name}: residual {:e}", r.energy.max_relative_residual);
+        assert!(
+            r.energy.max_relative_residual < 1e-6,
+            "{name}: residual {:e}",
+            r.energy.max_relative_residual
+        );
         assert!(r.stats.steps > 0);
         let _ = writeln!(
             table,
             "| {name} | {} | {} | {} | {} | {:.5} | {:.3} | {:.1e} |",
-            r.stats.steps, r.stats.rejected, r.stats.rhs_evals, s.contacts, s.final_speed_m_s, s.final_rate_deg_s, r.energy.max_relative_residual
+            r.stats.steps,
+            r.stats.rejected,
+            r.stats.rhs_evals,
+            s.contacts,
+            s.final_speed_m_s,
+            s.final_rate_deg_s,
+            r.energy.max_relative_residual
         );
     }
     let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("reports/tests/separation-stress.md");
-    satqual::report::write_atomic(&out, format!("# Separation stability stress (first release of paper-stack)\n\n{table}").as_bytes()).unwrap();
+    satqual::report::write_atomic(
+        &out,
+        format!("# Separation stability stress (first release of paper-stack)\n\n{table}")
+            .as_bytes(),
+    )
+    .unwrap();
 }

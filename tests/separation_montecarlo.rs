@@ -23,7 +23,10 @@ fn model() -> Model {
 fn monte_carlo_is_identical_for_any_thread_count() {
     let m = model();
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| monte_carlo(&m, 12, 42).unwrap())
     };
     let one = run(1);
@@ -34,6 +37,13 @@ fn monte_carlo_is_identical_for_any_thread_count() {
     assert!(s.p99 > s.p1, "{s:?}");
     assert!(one.min_clearance_m.p50 > 0.0);
     // Another seed gives another sample.
-    let other = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| monte_carlo(&m, 12, 43).unwrap());
-    assert_ne!(one.satellites[0].final_speed_m_s, other.satellites[0].final_speed_m_s);
+    let other = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap()
+        .install(|| monte_carlo(&m, 12, 43).unwrap());
+    assert_ne!(
+        one.satellites[0].final_speed_m_s,
+        other.satellites[0].final_speed_m_s
+    );
 }

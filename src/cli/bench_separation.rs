@@ -93,8 +93,12 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         let mut m = base.clone();
         m.tolerance = tol;
         let (r, wall) = timed(&m)?;
-        let ds = |i: usize| (r.satellites[i].final_speed_m_s - reference.satellites[i].final_speed_m_s).abs();
-        let dr = |i: usize| (r.satellites[i].final_rate_deg_s - reference.satellites[i].final_rate_deg_s).abs();
+        let ds = |i: usize| {
+            (r.satellites[i].final_speed_m_s - reference.satellites[i].final_speed_m_s).abs()
+        };
+        let dr = |i: usize| {
+            (r.satellites[i].final_rate_deg_s - reference.satellites[i].final_rate_deg_s).abs()
+        };
         let n = r.satellites.len();
         rows.push(Row {
             tolerance: tol,
@@ -123,7 +127,10 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         });
         Ok(())
     };
-    variant("reference (3 flexible modes per plane, 10% spring error)", base.clone())?;
+    variant(
+        "reference (3 flexible modes per plane, 10% spring error)",
+        base.clone(),
+    )?;
     let mut rigid = base.clone();
     rigid.bars = None;
     variant("rigid bars, 10% spring error", rigid)?;
@@ -139,8 +146,16 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         for s in b.springs.iter_mut() {
             s.stiffness_n_m *= 1.0 + 1e-12;
         }
-        let (ra, rb) = (separation::run(&a, &RunOptions::default())?, separation::run(&b, &RunOptions::default())?);
-        Ok(ra.satellites.iter().zip(&rb.satellites).map(|(x, y)| (x.final_speed_m_s - y.final_speed_m_s).abs()).collect())
+        let (ra, rb) = (
+            separation::run(&a, &RunOptions::default())?,
+            separation::run(&b, &RunOptions::default())?,
+        );
+        Ok(ra
+            .satellites
+            .iter()
+            .zip(&rb.satellites)
+            .map(|(x, y)| (x.final_speed_m_s - y.final_speed_m_s).abs())
+            .collect())
     };
     let sens_flex = sensitivity(&base)?;
     let mut rigid = base.clone();
@@ -179,7 +194,12 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
 }
 
 fn ideal_stiffness(scene: &satqual::spec::Scene) -> f64 {
-    scene.file.separation.as_ref().map(|s| s.spring.stiffness_n_m).unwrap_or(0.0)
+    scene
+        .file
+        .separation
+        .as_ref()
+        .map(|s| s.spring.stiffness_n_m)
+        .unwrap_or(0.0)
 }
 
 fn markdown(b: &Bench) -> String {
@@ -211,8 +231,14 @@ fn markdown(b: &Bench) -> String {
             r.sat1_speed_error_m_s
         );
     }
-    let _ = writeln!(s, "\n## Speed-up against real time at the default tolerance\n");
-    let _ = writeln!(s, "| variant | simulated s | wall s | × real time | steps | contact onsets |");
+    let _ = writeln!(
+        s,
+        "\n## Speed-up against real time at the default tolerance\n"
+    );
+    let _ = writeln!(
+        s,
+        "| variant | simulated s | wall s | × real time | steps | contact onsets |"
+    );
     let _ = writeln!(s, "|---|---|---|---|---|---|");
     for v in &b.variants {
         let _ = writeln!(
@@ -227,10 +253,18 @@ fn markdown(b: &Bench) -> String {
         "|Δ exit speed| after a 1e-12 relative change of every spring stiffness, both runs at tolerance {:e} (flexible bars / rigid bars):\n",
         b.reference_tolerance
     );
-    for (i, (f, r)) in b.sensitivity_to_1e12_input_change_m_s.iter().zip(&b.sensitivity_rigid_bars_m_s).enumerate() {
+    for (i, (f, r)) in b
+        .sensitivity_to_1e12_input_change_m_s
+        .iter()
+        .zip(&b.sensitivity_rigid_bars_m_s)
+        .enumerate()
+    {
         let _ = writeln!(s, "- satellite {}: {:.2e} m/s / {:.2e} m/s", i + 1, f, r);
     }
-    let _ = writeln!(s, "\n## Lankarani–Nikravesh effective restitution (one lateral impact, rigid bars)\n");
+    let _ = writeln!(
+        s,
+        "\n## Lankarani–Nikravesh effective restitution (one lateral impact, rigid bars)\n"
+    );
     let _ = writeln!(s, "| Ce | effective |\n|---|---|");
     for (ce, e) in &b.ln_restitution {
         let _ = writeln!(s, "| {ce} | {e:.4} |");

@@ -40,7 +40,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
     let scene = satqual::spec::Scene::load(&args.scene)?;
     let model = Model::from_scene(&scene)?;
-    let opts = RunOptions { record_history: args.out.is_some() };
+    let opts = RunOptions {
+        record_history: args.out.is_some(),
+    };
     let result = separation::run(&model, &opts)?;
     let mc = match args.monte_carlo {
         Some(n) => Some(separation::monte_carlo(&model, n, args.seed.unwrap_or(0))?),
@@ -50,18 +52,28 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         write_histories(dir, h)?;
     }
     let mut s = String::new();
-    let _ = writeln!(s, "separation of {} ({} satellites)", scene.name(), result.satellites.len());
-    let _ = writeln!(s, "  sat  release_s  max_speed  final_speed  final_rate  exit_time_s  contacts");
+    let _ = writeln!(
+        s,
+        "separation of {} ({} satellites)",
+        scene.name(),
+        result.satellites.len()
+    );
+    let _ = writeln!(
+        s,
+        "  sat  release_s  max_speed  final_speed  final_rate  exit_time_s  contacts"
+    );
     for r in &result.satellites {
         let _ = writeln!(
             s,
             "  {:>3}  {:>9}  {:>9.4}  {:>11.4}  {:>10.3}  {:>11}  {:>8}",
             r.index,
-            r.release_time_s.map_or("never".into(), |t| format!("{t:.3}")),
+            r.release_time_s
+                .map_or("never".into(), |t| format!("{t:.3}")),
             r.max_speed_m_s,
             r.final_speed_m_s,
             r.final_rate_deg_s,
-            r.exit_time_s.map_or("on bars".into(), |t| format!("{t:.3}")),
+            r.exit_time_s
+                .map_or("on bars".into(), |t| format!("{t:.3}")),
             r.contacts
         );
     }
@@ -69,7 +81,10 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let _ = writeln!(
         s,
         "  energy residual {:.3e} of the spring energy (max over the run {:.3e}); {} steps, {} RHS evaluations",
-        result.energy.relative_residual, result.energy.max_relative_residual, result.stats.steps, result.stats.rhs_evals
+        result.energy.relative_residual,
+        result.energy.max_relative_residual,
+        result.stats.steps,
+        result.stats.rhs_evals
     );
     if let Some(c) = result.min_clearance_m {
         let _ = writeln!(s, "  minimum inter-satellite clearance {c:.4} m");
@@ -89,13 +104,19 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         );
     }
     p.human(s.trim_end());
-    p.json(&Output { scene: scene.path.display().to_string(), result: &result, monte_carlo: mc })?;
+    p.json(&Output {
+        scene: scene.path.display().to_string(),
+        result: &result,
+        monte_carlo: mc,
+    })?;
     Ok(Outcome::Pass)
 }
 
 fn write_histories(dir: &Path, h: &separation::History) -> Result<(), Error> {
     for (i, rows) in h.satellites.iter().enumerate() {
-        let mut s = String::from("time_s,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,wx_deg_s,wy_deg_s,wz_deg_s,rate_deg_s\n");
+        let mut s = String::from(
+            "time_s,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,wx_deg_s,wy_deg_s,wz_deg_s,rate_deg_s\n",
+        );
         for (t, r) in h.times_s.iter().zip(rows) {
             let _ = write!(s, "{t}");
             for v in r {
@@ -105,7 +126,9 @@ fn write_histories(dir: &Path, h: &separation::History) -> Result<(), Error> {
         }
         write_atomic(&dir.join(format!("satellite-{}.csv", i + 1)), s.as_bytes())?;
     }
-    let mut s = String::from("time_s,spring_work_j,kinetic_j,bar_j,contact_elastic_j,losses_j,residual_j\n");
+    let mut s = String::from(
+        "time_s,spring_work_j,kinetic_j,bar_j,contact_elastic_j,losses_j,residual_j\n",
+    );
     for (t, r) in h.times_s.iter().zip(&h.energy) {
         let _ = write!(s, "{t}");
         for v in r {

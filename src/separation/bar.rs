@@ -92,8 +92,9 @@ impl ModalBar {
         n_modes: usize,
         damping_ratio: f64,
     ) -> Result<ModalBar, SeparationError> {
-        let modes: BarModes = cantilever_bar_modes(length_m, diameter_m, material, elements, n_modes)
-            .map_err(|e| SeparationError::Invalid(format!("guide-bar modes: {e}")))?;
+        let modes: BarModes =
+            cantilever_bar_modes(length_m, diameter_m, material, elements, n_modes)
+                .map_err(|e| SeparationError::Invalid(format!("guide-bar modes: {e}")))?;
         if modes.shapes.len() < n_modes {
             return Err(SeparationError::Invalid(format!(
                 "guide-bar modes: asked for {n_modes} modes, the bar model gave {}",
@@ -105,10 +106,17 @@ impl ModalBar {
         // The spline assumes uniform stations; check rather than trust.
         for w in st.windows(2) {
             if ((w[1] - w[0]) - h).abs() > 1e-9 * length_m {
-                return Err(SeparationError::Invalid("guide-bar modes: stations are not uniform".into()));
+                return Err(SeparationError::Invalid(
+                    "guide-bar modes: stations are not uniform".into(),
+                ));
             }
         }
-        let shapes: Vec<Spline> = modes.shapes.iter().take(n_modes).map(|s| Spline::new(h, s.clone())).collect();
+        let shapes: Vec<Spline> = modes
+            .shapes
+            .iter()
+            .take(n_modes)
+            .map(|s| Spline::new(h, s.clone()))
+            .collect();
         let ns = st.len();
         let mut y = vec![0.0; ns * n_modes];
         let mut m = vec![0.0; ns * n_modes];
@@ -123,7 +131,10 @@ impl ModalBar {
         let mut bin_max = vec![0.0; n_modes * BINS];
         for (j, sp) in shapes.iter().enumerate() {
             for b in 0..BINS {
-                let (z0, z1) = (length_m * b as f64 / BINS as f64, length_m * (b + 1) as f64 / BINS as f64);
+                let (z0, z1) = (
+                    length_m * b as f64 / BINS as f64,
+                    length_m * (b + 1) as f64 / BINS as f64,
+                );
                 let mut mx = 0.0f64;
                 for k in 0..=16 {
                     mx = mx.max(sp.eval(z0 + (z1 - z0) * k as f64 / 16.0).0.abs());
@@ -133,7 +144,12 @@ impl ModalBar {
         }
         Ok(ModalBar {
             length_m,
-            omega: modes.frequencies_hz.iter().take(n_modes).map(|f| 2.0 * std::f64::consts::PI * f).collect(),
+            omega: modes
+                .frequencies_hz
+                .iter()
+                .take(n_modes)
+                .map(|f| 2.0 * std::f64::consts::PI * f)
+                .collect(),
             damping_ratio,
             shapes,
             frequencies_hz: modes.frequencies_hz.iter().take(n_modes).copied().collect(),
@@ -163,8 +179,14 @@ impl ModalBar {
         let cb = (b * b * b - b) * h * h / 6.0;
         let da = (1.0 - 3.0 * a * a) * h / 6.0;
         let db = (3.0 * b * b - 1.0) * h / 6.0;
-        let (y0, y1) = (&self.y[i * nm..i * nm + nm], &self.y[(i + 1) * nm..(i + 1) * nm + nm]);
-        let (m0, m1) = (&self.m[i * nm..i * nm + nm], &self.m[(i + 1) * nm..(i + 1) * nm + nm]);
+        let (y0, y1) = (
+            &self.y[i * nm..i * nm + nm],
+            &self.y[(i + 1) * nm..(i + 1) * nm + nm],
+        );
+        let (m0, m1) = (
+            &self.m[i * nm..i * nm + nm],
+            &self.m[(i + 1) * nm..(i + 1) * nm + nm],
+        );
         for j in 0..nm {
             phi[j] = a * y0[j] + b * y1[j] + ca * m0[j] + cb * m1[j];
             dphi[j] = (y1[j] - y0[j]) / h + da * m0[j] + db * m1[j];
@@ -196,6 +218,9 @@ mod tests {
         let y: Vec<f64> = (0..=40).map(|i| (i as f64 * h).sin()).collect();
         let s = Spline::new(h, y);
         let (v, d) = s.eval(1.0);
-        assert!((v - 1f64.sin()).abs() < 1e-5 && (d - 1f64.cos()).abs() < 1e-4, "{v} {d}");
+        assert!(
+            (v - 1f64.sin()).abs() < 1e-5 && (d - 1f64.cos()).abs() < 1e-4,
+            "{v} {d}"
+        );
     }
 }

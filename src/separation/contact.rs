@@ -42,7 +42,11 @@ impl ContactParams {
     /// Elastic energy stored in the contact spring, ∫K δⁿ dδ.
     #[inline]
     pub fn elastic_energy(&self, delta: f64) -> f64 {
-        if delta <= 0.0 { 0.0 } else { self.stiffness * delta.powf(self.exponent + 1.0) / (self.exponent + 1.0) }
+        if delta <= 0.0 {
+            0.0
+        } else {
+            self.stiffness * delta.powf(self.exponent + 1.0) / (self.exponent + 1.0)
+        }
     }
 
     /// The modified coefficient c_d of eq. 37 at sliding speed |v_t|.
@@ -95,7 +99,11 @@ pub struct EdgeContact {
 
 impl Default for EdgeContact {
     fn default() -> Self {
-        EdgeContact { state: ContactState::Free, impact_speed: None, past_tip: false }
+        EdgeContact {
+            state: ContactState::Free,
+            impact_speed: None,
+            past_tip: false,
+        }
     }
 }
 

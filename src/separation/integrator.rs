@@ -155,7 +155,11 @@ impl Dopri5 {
     fn initial_step<F: FnMut(f64, &[f64], &mut [f64])>(&mut self, f: &mut F) -> f64 {
         let d0 = self.wnorm(&self.y, &self.y, &self.y);
         let d1 = self.wnorm(&self.f0, &self.y, &self.y);
-        let mut h = if d0 < 1e-10 || d1 < 1e-10 { 1e-6 } else { 0.01 * d0 / d1 };
+        let mut h = if d0 < 1e-10 || d1 < 1e-10 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        };
         h = h.min(self.h_max);
         for i in 0..self.y.len() {
             self.ytmp[i] = self.y[i] + h * self.f0[i];
@@ -163,12 +167,16 @@ impl Dopri5 {
         let mut f1 = vec![0.0; self.y.len()];
         f(self.t + h, &self.ytmp, &mut f1);
         self.stats.rhs_evals += 1;
-        for i in 0..f1.len() {
-            f1[i] -= self.f0[i];
+        for (a, b) in f1.iter_mut().zip(&self.f0) {
+            *a -= b;
         }
         let d2 = self.wnorm(&f1, &self.y, &self.y) / h;
         let dm = d1.max(d2);
-        let h1 = if dm <= 1e-15 { (h * 1e-3).max(1e-6) } else { (0.01 / dm).powf(0.2) };
+        let h1 = if dm <= 1e-15 {
+            (h * 1e-3).max(1e-6)
+        } else {
+            (0.01 / dm).powf(0.2)
+        };
         (100.0 * h).min(h1).min(self.h_max)
     }
 
@@ -193,24 +201,41 @@ impl Dopri5 {
         }
         f(t + C4 * h, &yt, &mut self.k[3]);
         for i in 0..n {
-            yt[i] = y[i] + h * (A51 * self.k[0][i] + A52 * self.k[1][i] + A53 * self.k[2][i] + A54 * self.k[3][i]);
+            yt[i] = y[i]
+                + h * (A51 * self.k[0][i]
+                    + A52 * self.k[1][i]
+                    + A53 * self.k[2][i]
+                    + A54 * self.k[3][i]);
         }
         f(t + C5 * h, &yt, &mut self.k[4]);
         for i in 0..n {
             yt[i] = y[i]
-                + h * (A61 * self.k[0][i] + A62 * self.k[1][i] + A63 * self.k[2][i] + A64 * self.k[3][i] + A65 * self.k[4][i]);
+                + h * (A61 * self.k[0][i]
+                    + A62 * self.k[1][i]
+                    + A63 * self.k[2][i]
+                    + A64 * self.k[3][i]
+                    + A65 * self.k[4][i]);
         }
         f(t + h, &yt, &mut self.k[5]);
         for i in 0..n {
             yt[i] = y[i]
-                + h * (A71 * self.k[0][i] + A73 * self.k[2][i] + A74 * self.k[3][i] + A75 * self.k[4][i] + A76 * self.k[5][i]);
+                + h * (A71 * self.k[0][i]
+                    + A73 * self.k[2][i]
+                    + A74 * self.k[3][i]
+                    + A75 * self.k[4][i]
+                    + A76 * self.k[5][i]);
         }
         f(t + h, &yt, &mut self.k[6]);
         self.stats.rhs_evals += 6;
         let mut s = 0.0;
         for i in 0..n {
             let e = h
-                * (E1 * self.k[0][i] + E3 * self.k[2][i] + E4 * self.k[3][i] + E5 * self.k[4][i] + E6 * self.k[5][i] + E7 * self.k[6][i]);
+                * (E1 * self.k[0][i]
+                    + E3 * self.k[2][i]
+                    + E4 * self.k[3][i]
+                    + E5 * self.k[4][i]
+                    + E6 * self.k[5][i]
+                    + E7 * self.k[6][i]);
             let sc = self.atol[i] + self.rtol * y[i].abs().max(yt[i].abs());
             let r = e / sc;
             s += r * r;
@@ -232,7 +257,12 @@ impl Dopri5 {
             self.rcont[2][i] = bspl;
             self.rcont[3][i] = dy - h * self.k[6][i] - bspl;
             self.rcont[4][i] = h
-                * (D1 * self.k[0][i] + D3 * self.k[2][i] + D4 * self.k[3][i] + D5 * self.k[4][i] + D6 * self.k[5][i] + D7 * self.k[6][i]);
+                * (D1 * self.k[0][i]
+                    + D3 * self.k[2][i]
+                    + D4 * self.k[3][i]
+                    + D5 * self.k[4][i]
+                    + D6 * self.k[5][i]
+                    + D7 * self.k[6][i]);
         }
         self.y_prev.copy_from_slice(&self.y);
         self.t_prev = self.t;
@@ -244,7 +274,11 @@ impl Dopri5 {
     }
 
     /// Takes one accepted step, never past `t_limit`.
-    pub fn step<F: FnMut(f64, &[f64], &mut [f64])>(&mut self, f: &mut F, t_limit: f64) -> Result<(), StepFailure> {
+    pub fn step<F: FnMut(f64, &[f64], &mut [f64])>(
+        &mut self,
+        f: &mut F,
+        t_limit: f64,
+    ) -> Result<(), StepFailure> {
         const SAFE: f64 = 0.9;
         const BETA: f64 = 0.04;
         const EXPO1: f64 = 0.2 - BETA * 0.75;
@@ -288,14 +322,19 @@ impl Dopri5 {
             last = false;
             // dopri5.f: h / min(1/fac1, fac11/safe) with fac1 = 0.2; a non-finite error
             // (an overshoot into a stiff contact) shrinks by the largest factor.
-            let shrink = if err.is_finite() { (fac11 / SAFE).min(5.0) } else { 5.0 };
+            let shrink = if err.is_finite() {
+                (fac11 / SAFE).min(5.0)
+            } else {
+                5.0
+            };
             h /= shrink;
         }
     }
 
     /// The first component that is non-finite in the last trial's stages or result.
     fn non_finite_stage(&self) -> Option<usize> {
-        (0..self.y.len()).find(|&i| !self.ytmp[i].is_finite() || self.k.iter().any(|k| !k[i].is_finite()))
+        (0..self.y.len())
+            .find(|&i| !self.ytmp[i].is_finite() || self.k.iter().any(|k| !k[i].is_finite()))
     }
 
     /// The dense output at `t` in the last step [t_prev, t].
@@ -309,7 +348,8 @@ impl Dopri5 {
         let th1 = 1.0 - th;
         for (i, o) in out.iter_mut().enumerate() {
             *o = self.rcont[0][i]
-                + th * (self.rcont[1][i] + th1 * (self.rcont[2][i] + th * (self.rcont[3][i] + th1 * self.rcont[4][i])));
+                + th * (self.rcont[1][i]
+                    + th1 * (self.rcont[2][i] + th * (self.rcont[3][i] + th1 * self.rcont[4][i])));
         }
     }
 

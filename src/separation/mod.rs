@@ -25,4 +25,6 @@ pub use contact::{ContactParams, ContactState, Transitions};
 pub use integrator::Stats;
 pub use montecarlo::{MonteCarloResult, Percentiles, monte_carlo};
 pub use params::{Model, SatelliteParams, SpringParams};
-pub use sim::{EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult, run};
+pub use sim::{
+    EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult, run,
+};

@@ -41,7 +41,13 @@ impl Percentiles {
             let j = (i + 1).min(v.len() - 1);
             v[i] + (x - i as f64) * (v[j] - v[i])
         };
-        Percentiles { p0_27: q(0.27), p1: q(1.0), p50: q(50.0), p99: q(99.0), p99_73: q(99.73) }
+        Percentiles {
+            p0_27: q(0.27),
+            p1: q(1.0),
+            p50: q(50.0),
+            p99: q(99.0),
+            p99_73: q(99.73),
+        }
     }
 }
 
@@ -121,15 +127,22 @@ pub fn dispersed(model: &Model, seed: u64, i: u64) -> Model {
 }
 
 /// Runs `runs` dispersed releases in parallel (rayon's current pool).
-pub fn monte_carlo(model: &Model, runs: usize, seed: u64) -> Result<MonteCarloResult, SeparationError> {
+pub fn monte_carlo(
+    model: &Model,
+    runs: usize,
+    seed: u64,
+) -> Result<MonteCarloResult, SeparationError> {
     let results = (0..runs as u64)
         .into_par_iter()
         .map(|i| {
             run(&dispersed(model, seed, i), &RunOptions::default()).map_err(|e| match e {
-                SeparationError::NonFinite { time_s, body } => {
-                    SeparationError::NonFinite { time_s, body: format!("{body} (Monte Carlo run {i}, seed {seed})") }
+                SeparationError::NonFinite { time_s, body } => SeparationError::NonFinite {
+                    time_s,
+                    body: format!("{body} (Monte Carlo run {i}, seed {seed})"),
+                },
+                other => {
+                    SeparationError::Invalid(format!("Monte Carlo run {i} (seed {seed}): {other}"))
                 }
-                other => SeparationError::Invalid(format!("Monte Carlo run {i} (seed {seed}): {other}")),
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -138,11 +151,21 @@ pub fn monte_carlo(model: &Model, runs: usize, seed: u64) -> Result<MonteCarloRe
     let mut all_rate = Vec::new();
     let satellites = (0..n)
         .map(|i| {
-            let sp: Vec<f64> = results.iter().map(|r| r.satellites[i].final_speed_m_s).collect();
-            let rt: Vec<f64> = results.iter().map(|r| r.satellites[i].final_rate_deg_s).collect();
+            let sp: Vec<f64> = results
+                .iter()
+                .map(|r| r.satellites[i].final_speed_m_s)
+                .collect();
+            let rt: Vec<f64> = results
+                .iter()
+                .map(|r| r.satellites[i].final_rate_deg_s)
+                .collect();
             all_speed.extend_from_slice(&sp);
             all_rate.extend_from_slice(&rt);
-            SatelliteSpread { index: i + 1, final_speed_m_s: Percentiles::of(&sp), tip_off_rate_deg_s: Percentiles::of(&rt) }
+            SatelliteSpread {
+                index: i + 1,
+                final_speed_m_s: Percentiles::of(&sp),
+                tip_off_rate_deg_s: Percentiles::of(&rt),
+            }
         })
         .collect();
     let clear: Vec<f64> = results.iter().filter_map(|r| r.min_clearance_m).collect();

@@ -53,7 +53,11 @@ impl SpringParams {
 
     /// Force at extension `ext`: k·(compression − ext) until the end of action, then zero.
     pub fn force(&self, ext: f64) -> f64 {
-        if ext >= self.end_of_action_m() { 0.0 } else { self.stiffness_n_m * (self.compression_m - ext) }
+        if ext >= self.end_of_action_m() {
+            0.0
+        } else {
+            self.stiffness_n_m * (self.compression_m - ext)
+        }
     }
 }
 
@@ -100,7 +104,9 @@ impl Model {
         let loc = scene.locator();
         let f = &scene.file;
         let Some(sep) = &f.separation else {
-            return Err(loc.err("separation", "the scene has no [separation] section").into());
+            return Err(loc
+                .err("separation", "the scene has no [separation] section")
+                .into());
         };
         let Some(stack) = &f.stack else {
             return Err(loc
@@ -109,9 +115,16 @@ impl Model {
         };
         sepspec::validate(sep, stack, &loc)?;
         let n = stack.satellites;
-        let bar_material = f.material.iter().find(|m| m.name == stack.bar_material).ok_or_else(|| {
-            loc.err("stack.bar_material", format!("material `{}` is not defined", stack.bar_material))
-        })?;
+        let bar_material = f
+            .material
+            .iter()
+            .find(|m| m.name == stack.bar_material)
+            .ok_or_else(|| {
+                loc.err(
+                    "stack.bar_material",
+                    format!("material `{}` is not defined", stack.bar_material),
+                )
+            })?;
         let bars = match sep.bar_modes.modes() {
             Some(nm) => Some(ModalBar::new(
                 stack.bar_length_m,
@@ -134,14 +147,25 @@ impl Model {
             })
             .collect();
         let sp = &sep.spring;
-        let free = sp.free_length_m.unwrap_or(sp.installed_length_m + sp.stroke_m);
+        let free = sp
+            .free_length_m
+            .unwrap_or(sp.installed_length_m + sp.stroke_m);
         let mut springs = Vec::with_capacity(4 * n);
         for k in 1..=n {
             let o = sep.interface.iter().find(|o| o.interface == k);
             for j in 0..4 {
-                let err = o.and_then(|o| o.stiffness_error).map(|e| e[j]).unwrap_or(sp.stiffness_error[j]);
-                let stroke = o.and_then(|o| o.stroke_m).map(|s| s[j]).unwrap_or(sp.stroke_m);
-                let fl = o.and_then(|o| o.free_length_m).map(|s| s[j]).unwrap_or(free);
+                let err = o
+                    .and_then(|o| o.stiffness_error)
+                    .map(|e| e[j])
+                    .unwrap_or(sp.stiffness_error[j]);
+                let stroke = o
+                    .and_then(|o| o.stroke_m)
+                    .map(|s| s[j])
+                    .unwrap_or(sp.stroke_m);
+                let fl = o
+                    .and_then(|o| o.free_length_m)
+                    .map(|s| s[j])
+                    .unwrap_or(free);
                 springs.push(SpringParams {
                     interface: k,
                     column: j,
@@ -155,7 +179,10 @@ impl Model {
         let c = &sep.contact;
         Ok(Model {
             satellites,
-            carrier: sep.carrier.as_ref().map(|c| CarrierParams { mass_kg: c.mass_kg, inertia_kg_m2: c.inertia_kg_m2 }),
+            carrier: sep.carrier.as_ref().map(|c| CarrierParams {
+                mass_kg: c.mass_kg,
+                inertia_kg_m2: c.inertia_kg_m2,
+            }),
             columns_xy: stack.column_xy(),
             pitch_m: stack.satellite_pitch_m,
             bore_radius_m: 0.5 * stack.column_inner_diameter_m.max(stack.bar_diameter_m),

@@ -274,7 +274,12 @@ impl<'a> Sim<'a> {
         let o = BODY_STATES * b;
         let r = rotation(&y[o + 3..o + 7]);
         let wb = [y[o + 10], y[o + 11], y[o + 12]];
-        Frame { x: [y[o], y[o + 1], y[o + 2]], v: [y[o + 7], y[o + 8], y[o + 9]], w: mul(&r, wb), r }
+        Frame {
+            x: [y[o], y[o + 1], y[o + 2]],
+            v: [y[o + 7], y[o + 8], y[o + 9]],
+            w: mul(&r, wb),
+            r,
+        }
     }
 
     #[inline]
@@ -299,8 +304,20 @@ impl<'a> Sim<'a> {
     /// With `bounds`, an edge that cannot touch its bar returns early with a negative upper
     /// bound of δ (`kin = false`); event detection only needs the sign there, and root
     /// location always evaluates exactly (`bounds = None`).
+    // Eight arguments: the two frames are computed once per right-hand side and shared by
+    // all edges; bundling them into a struct would only move the count.
+    #[allow(clippy::too_many_arguments)]
     #[inline]
-    fn edge_kin(&self, y: &[f64], c0: &Frame, s: &Frame, i: usize, j: usize, k: usize, bounds: Option<&Bounds>) -> EdgeKin {
+    fn edge_kin(
+        &self,
+        y: &[f64],
+        c0: &Frame,
+        s: &Frame,
+        i: usize,
+        j: usize,
+        k: usize,
+        bounds: Option<&Bounds>,
+    ) -> EdgeKin {
         let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
         let p = add(s.x, rb);
         let pl = mul_t(&c0.r, sub(p, c0.x));
@@ -320,7 +337,17 @@ impl<'a> Sim<'a> {
             }
             let reach = off + (ub[0] * ub[0] + ub[1] * ub[1]).sqrt() - self.m.clearance_m;
             if reach < 0.0 {
-                return EdgeKin { delta: reach, delta_dot: 0.0, n: [0.0; 2], z: pl[2], p, vp: [0.0; 3], slope: [0.0; 2], udot: [0.0; 2], kin: false };
+                return EdgeKin {
+                    delta: reach,
+                    delta_dot: 0.0,
+                    n: [0.0; 2],
+                    z: pl[2],
+                    p,
+                    vp: [0.0; 3],
+                    slope: [0.0; 2],
+                    udot: [0.0; 2],
+                    kin: false,
+                };
             }
         }
         let vp = add(s.v, cross(s.w, rb));
@@ -347,9 +374,24 @@ impl<'a> Sim<'a> {
         let e = [col[0] + u[0] - pl[0], col[1] + u[1] - pl[1]];
         let r = (e[0] * e[0] + e[1] * e[1]).sqrt();
         let delta = r - self.m.clearance_m;
-        let n = if r > 1e-300 { [e[0] / r, e[1] / r] } else { [0.0, 0.0] };
-        let delta_dot = n[0] * (udot[0] + slope[0] * vrel[2] - vrel[0]) + n[1] * (udot[1] + slope[1] * vrel[2] - vrel[1]);
-        EdgeKin { delta, delta_dot, n, z: pl[2], p, vp, slope, udot, kin: true }
+        let n = if r > 1e-300 {
+            [e[0] / r, e[1] / r]
+        } else {
+            [0.0, 0.0]
+        };
+        let delta_dot = n[0] * (udot[0] + slope[0] * vrel[2] - vrel[0])
+            + n[1] * (udot[1] + slope[1] * vrel[2] - vrel[1]);
+        EdgeKin {
+            delta,
+            delta_dot,
+            n,
+            z: pl[2],
+            p,
+            vp,
+            slope,
+            udot,
+            kin: true,
+        }
     }
 
     fn lower_body(&self, interface: usize) -> usize {
@@ -389,7 +431,13 @@ impl<'a> Sim<'a> {
             if f != 0.0 {
                 let fv = scale(zl, f);
                 apply(s.interface, fv, pu, &mut force, &mut torque);
-                apply(self.lower_body(s.interface), scale(fv, -1.0), pu, &mut force, &mut torque);
+                apply(
+                    self.lower_body(s.interface),
+                    scale(fv, -1.0),
+                    pu,
+                    &mut force,
+                    &mut torque,
+                );
             }
         }
         // Contacts.
@@ -399,8 +447,7 @@ impl<'a> Sim<'a> {
         let c0 = &frames[0];
         let len = self.m.bar_length_m;
         let bounds = self.deflection_bounds(y);
-        for i in 1..=self.n {
-            let s = &frames[i];
+        for (i, s) in frames.iter().enumerate().skip(1) {
             for j in 0..4 {
                 for k in 0..2 {
                     let ei = (i - 1) * 8 + j * 2 + k;
@@ -418,13 +465,24 @@ impl<'a> Sim<'a> {
                     p_contact += (fnrm - fel) * ek.delta_dot;
                     let n = ek.n;
                     // −F·∇δ: lateral along n, axial from the bar slope.
-                    let f_loc = [fnrm * n[0], fnrm * n[1], -fnrm * (n[0] * ek.slope[0] + n[1] * ek.slope[1])];
+                    let f_loc = [
+                        fnrm * n[0],
+                        fnrm * n[1],
+                        -fnrm * (n[0] * ek.slope[0] + n[1] * ek.slope[1]),
+                    ];
                     let f_w = mul(&c0.r, f_loc);
                     apply(i, f_w, ek.p, &mut force, &mut torque);
                     apply(0, scale(f_w, -1.0), ek.p, &mut force, &mut torque);
                     let mut bar_f = [-fnrm * n[0], -fnrm * n[1]];
                     if c.friction > 0.0 {
-                        let rc = mul(&c0.r, [self.m.bore_radius_m * n[0], self.m.bore_radius_m * n[1], 0.0]);
+                        let rc = mul(
+                            &c0.r,
+                            [
+                                self.m.bore_radius_m * n[0],
+                                self.m.bore_radius_m * n[1],
+                                0.0,
+                            ],
+                        );
                         let cpt = add(ek.p, rc);
                         let vc = add(ek.vp, cross(s.w, rc));
                         let vrel_w = sub(sub(vc, c0.v), cross(c0.w, sub(cpt, c0.x)));
@@ -479,10 +537,17 @@ impl<'a> Sim<'a> {
                 continue;
             }
             let (mass, inertia) = if b == 0 {
-                let cp = self.m.carrier.as_ref().expect("a free body 0 is a free carrier");
+                let cp = self
+                    .m
+                    .carrier
+                    .as_ref()
+                    .expect("a free body 0 is a free carrier");
                 (cp.mass_kg, cp.inertia_kg_m2)
             } else {
-                (self.m.satellites[b - 1].mass_kg, self.m.satellites[b - 1].inertia_kg_m2)
+                (
+                    self.m.satellites[b - 1].mass_kg,
+                    self.m.satellites[b - 1].inertia_kg_m2,
+                )
             };
             let o = BODY_STATES * b;
             let wb = [y[o + 10], y[o + 11], y[o + 12]];
@@ -510,7 +575,11 @@ impl<'a> Sim<'a> {
             let ei = idx % n8;
             let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
             let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, bounds);
-            if idx < n8 { ek.delta } else { ek.z - self.m.bar_length_m }
+            if idx < n8 {
+                ek.delta
+            } else {
+                ek.z - self.m.bar_length_m
+            }
         } else {
             let si = idx - 2 * n8;
             self.spring_ext(frames, si).0 - self.m.springs[si].end_of_action_m()
@@ -533,8 +602,8 @@ impl<'a> Sim<'a> {
             gd[ei] = ek.delta_dot;
             g[n8 + ei] = ek.z - self.m.bar_length_m;
         }
-        for idx in 2 * n8..g.len() {
-            g[idx] = self.event_value(y, idx, &frames, None);
+        for (idx, gi) in g.iter_mut().enumerate().skip(2 * n8) {
+            *gi = self.event_value(y, idx, &frames, None);
         }
     }
 
@@ -560,7 +629,10 @@ impl<'a> Sim<'a> {
                 cands[1] = (-2.0 * b - sq) / (6.0 * a);
             }
         }
-        cands.into_iter().filter(|t| *t > 0.0 && *t < 1.0 && p(*t) > 0.0).reduce(f64::min)
+        cands
+            .into_iter()
+            .filter(|t| *t > 0.0 && *t < 1.0 && p(*t) > 0.0)
+            .reduce(f64::min)
     }
 
     /// Whether event `idx` is live and crossed between `a` (before) and `b` (after).
@@ -600,7 +672,10 @@ impl<'a> Sim<'a> {
                 let cp = self.m.carrier.as_ref().expect("free carrier");
                 (cp.mass_kg, cp.inertia_kg_m2)
             } else {
-                (self.m.satellites[b - 1].mass_kg, self.m.satellites[b - 1].inertia_kg_m2)
+                (
+                    self.m.satellites[b - 1].mass_kg,
+                    self.m.satellites[b - 1].inertia_kg_m2,
+                )
             };
             let o = BODY_STATES * b;
             let v = [y[o + 7], y[o + 8], y[o + 9]];
@@ -651,10 +726,8 @@ impl<'a> Sim<'a> {
     /// fixed carrier is broken start moving.
     fn apply_releases(&mut self, t: f64) {
         for k in 1..=self.n {
-            if let Some(tk) = self.m.release_times_s[k - 1] {
-                if tk <= t {
-                    self.released[k] = true;
-                }
+            if self.m.release_times_s[k - 1].is_some_and(|tk| tk <= t) {
+                self.released[k] = true;
             }
         }
         // Groups of latched bodies; body n + 1 stands for the carrier (index 0).
@@ -679,12 +752,21 @@ impl<'a> Sim<'a> {
         let bad = y.iter().position(|v| !v.is_finite())?;
         let body = if bad < self.bar_off {
             let b = bad / BODY_STATES;
-            if b == 0 { "the carrier".to_string() } else { format!("satellite {b}") }
+            if b == 0 {
+                "the carrier".to_string()
+            } else {
+                format!("satellite {b}")
+            }
         } else if bad < self.en_off {
             let r = bad - self.bar_off;
             let r = r % (8 * self.nm);
             let bd = r / self.nm;
-            format!("guide bar {} ({}), mode {}", bd / 2 + 1, if bd % 2 == 0 { "x" } else { "y" }, r % self.nm + 1)
+            format!(
+                "guide bar {} ({}), mode {}",
+                bd / 2 + 1,
+                if bd.is_multiple_of(2) { "x" } else { "y" },
+                r % self.nm + 1
+            )
         } else {
             "the energy accumulators".to_string()
         };
@@ -703,7 +785,13 @@ impl<'a> Sim<'a> {
             }
         }
         let atol = self.atol(m.tolerance);
-        let mut releases: Vec<f64> = m.release_times_s.iter().flatten().copied().filter(|&t| t < m.max_time_s).collect();
+        let mut releases: Vec<f64> = m
+            .release_times_s
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|&t| t < m.max_time_s)
+            .collect();
         releases.sort_by(f64::total_cmp);
         releases.dedup();
         // Releases due at t = 0 apply before the first step.
@@ -728,7 +816,10 @@ impl<'a> Sim<'a> {
         let mut peak_rate = vec![0.0f64; n];
         let mut pair_min = vec![f64::INFINITY; n.saturating_sub(1)];
         let mut max_rel_residual = 0.0f64;
-        let mut hist = opts.record_history.then(|| History { satellites: vec![Vec::new(); n], ..Default::default() });
+        let mut hist = opts.record_history.then(|| History {
+            satellites: vec![Vec::new(); n],
+            ..Default::default()
+        });
         let mut next_sample = 0.0;
         let mut ybuf = vec![0.0; self.dim];
         let mut touched = vec![false; n8];
@@ -736,24 +827,36 @@ impl<'a> Sim<'a> {
         loop {
             let released_any = self.released.iter().any(|&r| r);
             let pending = next_release < releases.len();
-            let all_out = (1..=n).filter(|&i| self.free[i]).all(|i| self.exit[i - 1].is_some());
+            let all_out = (1..=n)
+                .filter(|&i| self.free[i])
+                .all(|i| self.exit[i - 1].is_some());
             if (released_any && all_out && !pending) || ig.t >= m.max_time_s {
                 break;
             }
             if ig.stats.steps >= m.max_steps {
-                return Err(SeparationError::TooManySteps { time_s: ig.t, max_steps: m.max_steps });
+                return Err(SeparationError::TooManySteps {
+                    time_s: ig.t,
+                    max_steps: m.max_steps,
+                });
             }
             // A non-finite derivative at an accepted state (e.g. a zero inertia under a torque)
             // stops the run here, before any step spreads it.
             if let Some(e) = self.non_finite(ig.t, ig.derivative()) {
                 return Err(e);
             }
-            let t_limit = if pending { releases[next_release] } else { m.max_time_s };
+            let t_limit = if pending {
+                releases[next_release]
+            } else {
+                m.max_time_s
+            };
             {
                 let this = &*self;
                 let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| this.rhs(y, dy);
                 ig.step(&mut f, t_limit).map_err(|e| match e {
-                    StepFailure::TooSmall { t, h } => SeparationError::StepTooSmall { time_s: t, step_s: h },
+                    StepFailure::TooSmall { t, h } => SeparationError::StepTooSmall {
+                        time_s: t,
+                        step_s: h,
+                    },
                     StepFailure::NonFinite { t, index } => {
                         let mut probe = vec![0.0; this.dim];
                         probe[index] = f64::NAN;
@@ -783,11 +886,16 @@ impl<'a> Sim<'a> {
                     && g0[idx] < 0.0
                     && g1[idx] < 0.0
                     && !self.edges[idx].past_tip
-                    && !matches!(self.edges[idx].state, ContactState::Collision | ContactState::Contact)
+                    && !matches!(
+                        self.edges[idx].state,
+                        ContactState::Collision | ContactState::Contact
+                    )
                 {
                     // A short pulse can open and close between two step ends (a free-flight
                     // step is far longer than a contact): look inside the step.
-                    if let Some(th) = Self::hidden_contact(g0[idx], gd0[idx], g1[idx], gd1[idx], t1 - t0) {
+                    if let Some(th) =
+                        Self::hidden_contact(g0[idx], gd0[idx], g1[idx], gd1[idx], t1 - t0)
+                    {
                         let tm = t0 + th * (t1 - t0);
                         ig.dense(tm, &mut ybuf);
                         let gm = self.event_value(&ybuf, idx, &self.frames(&ybuf), None);
@@ -819,7 +927,9 @@ impl<'a> Sim<'a> {
                 // same instant must be latched at the same state, not one after another with
                 // slivers of steps in between (which breaks the symmetry the physics has).
                 for idx in 0..ne {
-                    let near = located.iter().any(|&(i, te)| i == idx && te <= t_event + SIMULTANEOUS_S);
+                    let near = located
+                        .iter()
+                        .any(|&(i, te)| i == idx && te <= t_event + SIMULTANEOUS_S);
                     if near || self.crossed(idx, g0[idx], g1[idx]) {
                         events_at_t.push(idx);
                     }
@@ -868,9 +978,15 @@ impl<'a> Sim<'a> {
                         e.impact_speed = None;
                     }
                     let i = ei / 8;
-                    if self.exit[i].is_none() && self.edges[i * 8..i * 8 + 8].iter().all(|e| e.past_tip) {
+                    if self.exit[i].is_none()
+                        && self.edges[i * 8..i * 8 + 8].iter().all(|e| e.past_tip)
+                    {
                         let o = BODY_STATES * (i + 1);
-                        self.exit[i] = Some((t, [ig.y[o + 7], ig.y[o + 8], ig.y[o + 9]], [ig.y[o + 10], ig.y[o + 11], ig.y[o + 12]]));
+                        self.exit[i] = Some((
+                            t,
+                            [ig.y[o + 7], ig.y[o + 8], ig.y[o + 9]],
+                            [ig.y[o + 10], ig.y[o + 11], ig.y[o + 12]],
+                        ));
                     }
                 }
                 // Spring end of action: the force function itself switches; the step now
@@ -886,13 +1002,21 @@ impl<'a> Sim<'a> {
                 let state = self.edges[ei].state;
                 let next = match (state, delta > 0.0) {
                     (ContactState::Collision, true) => Some(ContactState::Contact),
-                    (ContactState::Collision, false) | (ContactState::Contact, false) => Some(ContactState::Detached),
+                    (ContactState::Collision, false) | (ContactState::Contact, false) => {
+                        Some(ContactState::Detached)
+                    }
                     (ContactState::Detached, false) => Some(ContactState::Free),
-                    (ContactState::Detached, true) | (ContactState::Free, true) => Some(ContactState::Collision),
+                    (ContactState::Detached, true) | (ContactState::Free, true) => {
+                        Some(ContactState::Collision)
+                    }
                     _ => None,
                 };
                 if let Some(s) = next {
-                    let ddot = if s == ContactState::Collision { self.kin_of(&ig.y, ei).1 } else { 0.0 };
+                    let ddot = if s == ContactState::Collision {
+                        self.kin_of(&ig.y, ei).1
+                    } else {
+                        0.0
+                    };
                     let e = &mut self.edges[ei];
                     self.transitions.record(e.state, s);
                     if s == ContactState::Collision {
@@ -937,9 +1061,9 @@ impl<'a> Sim<'a> {
                 max_acc[i] = max_acc[i].max(norm([dyv[o + 7], dyv[o + 8], dyv[o + 9]]));
                 peak_rate[i] = peak_rate[i].max(norm(w).to_degrees());
             }
-            for k in 0..n.saturating_sub(1) {
+            for (k, pm) in pair_min.iter_mut().enumerate() {
                 if self.free[k + 1] && self.free[k + 2] {
-                    pair_min[k] = pair_min[k].min(self.pair_gap(&ig.y, k + 1));
+                    *pm = pm.min(self.pair_gap(&ig.y, k + 1));
                 }
             }
             // The audit costs about one right-hand side: sample it every 8th step.
@@ -953,7 +1077,11 @@ impl<'a> Sim<'a> {
         let satellites = (0..n)
             .map(|i| {
                 let o = BODY_STATES * (i + 1);
-                let (t_exit, v, w) = self.exit[i].unwrap_or((ig.t, [y[o + 7], y[o + 8], y[o + 9]], [y[o + 10], y[o + 11], y[o + 12]]));
+                let (t_exit, v, w) = self.exit[i].unwrap_or((
+                    ig.t,
+                    [y[o + 7], y[o + 8], y[o + 9]],
+                    [y[o + 10], y[o + 11], y[o + 12]],
+                ));
                 let rel = m.release_times_s[i];
                 SatelliteResult {
                     index: i + 1,
@@ -976,10 +1104,17 @@ impl<'a> Sim<'a> {
             .filter(|&k| pair_min[k].is_finite())
             .map(|k| {
                 let (ou, ol) = (BODY_STATES * (k + 1), BODY_STATES * (k + 2));
-                PairClearance { upper: k + 1, min_clearance_m: pair_min[k], closing_speed_m_s: y[ol + 9] - y[ou + 9] }
+                PairClearance {
+                    upper: k + 1,
+                    min_clearance_m: pair_min[k],
+                    closing_speed_m_s: y[ol + 9] - y[ou + 9],
+                }
             })
             .collect();
-        let min_clearance_m = pair_clearances.iter().map(|p| p.min_clearance_m).reduce(f64::min);
+        let min_clearance_m = pair_clearances
+            .iter()
+            .map(|p| p.min_clearance_m)
+            .reduce(f64::min);
         Ok(SeparationResult {
             satellites,
             energy,
@@ -1014,7 +1149,16 @@ impl<'a> Sim<'a> {
     /// Root of event `idx` in (t0, t1] on the dense output (Illinois false position); returns
     /// the end of the final bracket on the crossed side.
     #[allow(clippy::too_many_arguments)]
-    fn locate(&self, ig: &Dopri5, idx: usize, t0: f64, t1: f64, g0: f64, g1: f64, buf: &mut [f64]) -> f64 {
+    fn locate(
+        &self,
+        ig: &Dopri5,
+        idx: usize,
+        t0: f64,
+        t1: f64,
+        g0: f64,
+        g1: f64,
+        buf: &mut [f64],
+    ) -> f64 {
         let (mut a, mut b, mut ga, mut gb) = (t0, t1, g0, g1);
         let tol = 1e-13 * t1.abs().max(1.0);
         let mut side = 0i32;
@@ -1069,7 +1213,15 @@ impl<'a> Sim<'a> {
             ]);
         }
         let e = self.energy(y);
-        let losses = e.contact_damping_loss_j + e.friction_loss_j + e.bar_damping_loss_j + e.tip_cut_loss_j;
-        h.energy.push([e.spring_work_j, e.kinetic_j, e.bar_j, e.contact_elastic_j, losses, e.residual_j]);
+        let losses =
+            e.contact_damping_loss_j + e.friction_loss_j + e.bar_damping_loss_j + e.tip_cut_loss_j;
+        h.energy.push([
+            e.spring_work_j,
+            e.kinetic_j,
+            e.bar_j,
+            e.contact_elastic_j,
+            losses,
+            e.residual_j,
+        ]);
     }
 }
