@@ -9,7 +9,9 @@ use std::io::Write;
 mod bench;
 mod bench_fem;
 mod expand;
+mod bench_separation;
 mod modal;
+mod separate;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -28,6 +30,8 @@ pub enum Command {
     Modal(modal::Args),
     /// Write a [stack] scene out as the generic model (TOML) on stdout.
     Expand(expand::Args),
+    /// In-orbit release: separation dynamics of the stack, optionally a Monte Carlo.
+    Separate(separate::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -44,6 +48,7 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
     match cli.command {
         Command::Modal(a) => modal::run(a),
         Command::Expand(a) => expand::run(a),
+        Command::Separate(a) => separate::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }

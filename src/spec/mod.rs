@@ -7,6 +7,7 @@
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod model;
+pub mod separation;
 pub mod stack;
 
 pub use model::*;
@@ -49,6 +50,9 @@ pub struct SceneFile {
     /// A parametric stack, expanded into the generic model (issue: the preloaded stack).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stack: Option<StackSpec>,
+    /// The in-orbit release (issue 6): springs, schedule, contact; geometry from `[stack]`.
+    #[serde(default)]
+    pub separation: Option<separation::SeparationSpec>,
 }
 
 /// A loaded and validated scene, with its source kept for error locations and provenance.
