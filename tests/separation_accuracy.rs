@@ -124,7 +124,8 @@ inertia_kg_m2 = [100.0, 100.0, 150.0]
     // The released body: the satellite plus its four steel columns (satellite_mass_kg excludes
     // them): 150 + 4·7850·π/4·(0.04² − 0.021²)·0.5 kg.
     let m1 = m.satellites[0].mass_kg;
-    let col = 4.0 * 7850.0 * std::f64::consts::PI / 4.0 * (0.04f64.powi(2) - 0.021f64.powi(2)) * 0.5;
+    let col =
+        4.0 * 7850.0 * std::f64::consts::PI / 4.0 * (0.04f64.powi(2) - 0.021f64.powi(2)) * 0.5;
     assert!((m1 - (150.0 + col)).abs() < 1e-9);
     let m2 = 450.0;
     let mu = m1 * m2 / (m1 + m2);

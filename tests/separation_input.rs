@@ -69,9 +69,9 @@ fn negative_clearance() {
     );
     check(
         &t,
-        "stack.column_inner_diameter_m",
-        "column_inner_diameter_m",
-        "negative clearance",
+        "stack.bar_diameter_m",
+        "bar_diameter_m",
+        "does not fit through the column bore",
     );
 }
 

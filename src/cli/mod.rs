@@ -8,8 +8,8 @@ use std::io::Write;
 
 mod bench;
 mod bench_fem;
-mod expand;
 mod bench_separation;
+mod expand;
 mod modal;
 mod separate;
 

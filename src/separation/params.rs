@@ -140,9 +140,16 @@ impl Model {
         // their own mass); the released rigid body carries both. Columns as thin rods at the
         // corners, about the footprint centre; the CG shift they cause is the mass-weighted
         // mean of the satellite's offset and the (centred) column pattern.
-        let col_mat = f.material.iter().find(|m| m.name == stack.column_material).ok_or_else(|| {
-            loc.err("stack.column_material", format!("material `{}` is not defined", stack.column_material))
-        })?;
+        let col_mat = f
+            .material
+            .iter()
+            .find(|m| m.name == stack.column_material)
+            .ok_or_else(|| {
+                loc.err(
+                    "stack.column_material",
+                    format!("material `{}` is not defined", stack.column_material),
+                )
+            })?;
         let col_area = std::f64::consts::PI / 4.0
             * (stack.column_outer_diameter_m.powi(2) - stack.column_inner_diameter_m.powi(2));
         let m_col = col_mat.density_kg_m3 * col_area * stack.satellite_pitch_m;
@@ -154,7 +161,9 @@ impl Model {
             inertia[1] += m_col * (x * x + rod);
             inertia[2] += m_col * (x * x + y * y);
         }
-        let cg = stack.satellite_cg_offset_m.map(|c| c * stack.satellite_mass_kg / m_total);
+        let cg = stack
+            .satellite_cg_offset_m
+            .map(|c| c * stack.satellite_mass_kg / m_total);
         let satellites = (1..=n)
             .map(|i| SatelliteParams {
                 mass_kg: m_total,

@@ -153,11 +153,18 @@ impl StackSpec {
         if !(self.preload_total_n > 0.0) {
             return Err(loc.err(
                 &k("preload_total_n"),
-                format!("the preload must be positive, got {} N", self.preload_total_n),
+                format!(
+                    "the preload must be positive, got {} N",
+                    self.preload_total_n
+                ),
             ));
         }
         let pos = |key: &str, v: f64| -> Result<(), SpecError> {
-            if v > 0.0 { Ok(()) } else { Err(loc.err(&k(key), format!("must be positive, got {v}"))) }
+            if v > 0.0 {
+                Ok(())
+            } else {
+                Err(loc.err(&k(key), format!("must be positive, got {v}")))
+            }
         };
         pos("satellite_mass_kg", self.satellite_mass_kg)?;
         pos("satellite_pitch_m", self.satellite_pitch_m)?;
@@ -167,13 +174,31 @@ impl StackSpec {
         pos("column_inner_diameter_m", self.column_inner_diameter_m)?;
         pos("bar_diameter_m", self.bar_diameter_m)?;
         pos("bar_length_m", self.bar_length_m)?;
-        pos("interface.axial_stiffness_n_m", self.interface.axial_stiffness_n_m)?;
-        pos("device_axial_stiffness_n_m", self.device_axial_stiffness_n_m)?;
+        pos(
+            "interface.axial_stiffness_n_m",
+            self.interface.axial_stiffness_n_m,
+        )?;
+        pos(
+            "device_axial_stiffness_n_m",
+            self.device_axial_stiffness_n_m,
+        )?;
         for (key, v) in [
-            ("interface.shear_stiffness_n_m", self.interface.shear_stiffness_n_m),
-            ("interface.rotational_stiffness_n_m_rad", self.interface.rotational_stiffness_n_m_rad),
-            ("interface.torsional_stiffness_n_m_rad", self.interface.torsional_stiffness_n_m_rad),
-            ("device_lateral_stiffness_n_m", self.device_lateral_stiffness_n_m),
+            (
+                "interface.shear_stiffness_n_m",
+                self.interface.shear_stiffness_n_m,
+            ),
+            (
+                "interface.rotational_stiffness_n_m_rad",
+                self.interface.rotational_stiffness_n_m_rad,
+            ),
+            (
+                "interface.torsional_stiffness_n_m_rad",
+                self.interface.torsional_stiffness_n_m_rad,
+            ),
+            (
+                "device_lateral_stiffness_n_m",
+                self.device_lateral_stiffness_n_m,
+            ),
             ("base_height_m", self.base_height_m),
         ] {
             if !(v >= 0.0) {
@@ -182,7 +207,10 @@ impl StackSpec {
         }
         for (i, v) in self.satellite_inertia_kg_m2.iter().enumerate() {
             if !(*v >= 0.0) {
-                return Err(loc.err(&format!("stack.satellite_inertia_kg_m2[{i}]"), format!("must not be negative, got {v}")));
+                return Err(loc.err(
+                    &format!("stack.satellite_inertia_kg_m2[{i}]"),
+                    format!("must not be negative, got {v}"),
+                ));
             }
         }
         if self.column_elements == 0 || self.bar_elements_per_satellite == 0 {
@@ -216,7 +244,10 @@ impl StackSpec {
                 ),
             ));
         }
-        for (key, name) in [("column_material", &self.column_material), ("bar_material", &self.bar_material)] {
+        for (key, name) in [
+            ("column_material", &self.column_material),
+            ("bar_material", &self.bar_material),
+        ] {
             if !materials.iter().any(|m| &m.name == name) {
                 return Err(loc.err(&k(key), format!("material `{name}` is not defined")));
             }
@@ -265,14 +296,23 @@ impl StackSpec {
         };
         for (c, p) in xy.iter().enumerate() {
             let c = c + 1;
-            f.node.push(Node { id: ids::platform(c), position_m: [p[0], p[1], z(0)] });
-            f.support.push(Support { node: ids::platform(c), dofs: "123456".into() });
+            f.node.push(Node {
+                id: ids::platform(c),
+                position_m: [p[0], p[1], z(0)],
+            });
+            f.support.push(Support {
+                node: ids::platform(c),
+                dofs: "123456".into(),
+            });
         }
         for i in 1..=n {
             let bottom = z(n - i);
             let mid = bottom + 0.5 * self.satellite_pitch_m;
             let cg = self.satellite_cg_offset_m;
-            f.node.push(Node { id: ids::satellite(i), position_m: [cg[0], cg[1], mid + cg[2]] });
+            f.node.push(Node {
+                id: ids::satellite(i),
+                position_m: [cg[0], cg[1], mid + cg[2]],
+            });
             f.mass.push(Mass {
                 node: ids::satellite(i),
                 mass_kg: self.satellite_mass_kg,
@@ -283,37 +323,81 @@ impl StackSpec {
             for (c, p) in xy.iter().enumerate() {
                 let c = c + 1;
                 for (k, zz) in [(1, bottom), (2, mid), (3, bottom + self.satellite_pitch_m)] {
-                    f.node.push(Node { id: ids::column(i, c, k), position_m: [p[0], p[1], zz] });
+                    f.node.push(Node {
+                        id: ids::column(i, c, k),
+                        position_m: [p[0], p[1], zz],
+                    });
                 }
                 slaves.push(ids::column(i, c, 2));
                 let mat = &self.column_material;
                 let el = self.column_elements;
-                f.beam.push(beam(format!("sat {i} column {c} lower"), ids::column(i, c, 1), ids::column(i, c, 2), "stack column", mat, el));
-                f.beam.push(beam(format!("sat {i} column {c} upper"), ids::column(i, c, 2), ids::column(i, c, 3), "stack column", mat, el));
-                let below = if i == n { ids::platform(c) } else { ids::column(i + 1, c, 3) };
-                let name = if i == n { format!("interface platform/sat {i} column {c}") } else { format!("interface sat {}/sat {i} column {c}", i + 1) };
+                f.beam.push(beam(
+                    format!("sat {i} column {c} lower"),
+                    ids::column(i, c, 1),
+                    ids::column(i, c, 2),
+                    "stack column",
+                    mat,
+                    el,
+                ));
+                f.beam.push(beam(
+                    format!("sat {i} column {c} upper"),
+                    ids::column(i, c, 2),
+                    ids::column(i, c, 3),
+                    "stack column",
+                    mat,
+                    el,
+                ));
+                let below = if i == n {
+                    ids::platform(c)
+                } else {
+                    ids::column(i + 1, c, 3)
+                };
+                let name = if i == n {
+                    format!("interface platform/sat {i} column {c}")
+                } else {
+                    format!("interface sat {}/sat {i} column {c}", i + 1)
+                };
                 f.spring.push(joint(name, below, ids::column(i, c, 1)));
             }
-            f.rigid.push(Rigid { master: ids::satellite(i), slaves });
+            f.rigid.push(Rigid {
+                master: ids::satellite(i),
+                slaves,
+            });
         }
         let top = self.stack_top_z();
         for (c, p) in xy.iter().enumerate() {
             let c = c + 1;
             let mat = &self.bar_material;
             let el = self.bar_elements_per_satellite;
-            f.node.push(Node { id: ids::bar_root(c), position_m: [p[0], p[1], 0.0] });
+            f.node.push(Node {
+                id: ids::bar_root(c),
+                position_m: [p[0], p[1], 0.0],
+            });
             // The spherical washer at the bar's lower end (§2.2, Fig. 3 item 15) lets it rotate:
             // translations and torsion held, bending rotations free.
-            f.support.push(Support { node: ids::bar_root(c), dofs: "1236".into() });
+            f.support.push(Support {
+                node: ids::bar_root(c),
+                dofs: "1236".into(),
+            });
             let mut prev = ids::bar_root(c);
             for level in 0..=n {
                 if level == 0 && self.base_height_m <= 0.0 {
                     // The root is level 0; alias it by giving the level-0 id to the root node.
                     continue;
                 }
-                f.node.push(Node { id: ids::bar(c, level), position_m: [p[0], p[1], z(level)] });
+                f.node.push(Node {
+                    id: ids::bar(c, level),
+                    position_m: [p[0], p[1], z(level)],
+                });
                 let elements = if level == 0 { el.max(1) } else { el };
-                f.beam.push(beam(format!("bar {c} segment {level}"), prev, ids::bar(c, level), "stack guide bar", mat, elements));
+                f.beam.push(beam(
+                    format!("bar {c} segment {level}"),
+                    prev,
+                    ids::bar(c, level),
+                    "stack guide bar",
+                    mat,
+                    elements,
+                ));
                 prev = ids::bar(c, level);
             }
             f.preload.push(Preload {
@@ -332,8 +416,18 @@ impl StackSpec {
             });
             let stub = self.bar_length_m - top;
             if stub > 1e-6 {
-                f.node.push(Node { id: ids::bar_tip(c), position_m: [p[0], p[1], self.bar_length_m] });
-                f.beam.push(beam(format!("bar {c} tip"), prev, ids::bar_tip(c), "stack guide bar", mat, 1));
+                f.node.push(Node {
+                    id: ids::bar_tip(c),
+                    position_m: [p[0], p[1], self.bar_length_m],
+                });
+                f.beam.push(beam(
+                    format!("bar {c} tip"),
+                    prev,
+                    ids::bar_tip(c),
+                    "stack guide bar",
+                    mat,
+                    1,
+                ));
             }
         }
     }
