@@ -33,9 +33,9 @@ pub fn modal(
         Error::Fem(f) => locate(scene, f),
         other => other,
     })?;
-    if let (Some(stack), Some(ps)) = (&scene.file.stack, &sys.result.prestress) {
-        if let Some(lambda) = ps.buckling_factor {
-            if lambda < 1.0 {
+    if let (Some(stack), Some(ps)) = (&scene.file.stack, &sys.result.prestress)
+        && let Some(lambda) = ps.buckling_factor
+            && lambda < 1.0 {
                 return Err(scene
                     .locator()
                     .err(
@@ -49,8 +49,6 @@ pub fn modal(
                     )
                     .into());
             }
-        }
-    }
     Ok((model, sys))
 }
 

@@ -150,7 +150,7 @@ impl StackSpec {
         if self.satellites == 0 {
             return Err(loc.err(&k("satellites"), "a stack needs at least one satellite"));
         }
-        if !(self.preload_total_n > 0.0) {
+        if self.preload_total_n <= 0.0 {
             return Err(loc.err(
                 &k("preload_total_n"),
                 format!(
@@ -201,12 +201,12 @@ impl StackSpec {
             ),
             ("base_height_m", self.base_height_m),
         ] {
-            if !(v >= 0.0) {
+            if v < 0.0 {
                 return Err(loc.err(&k(key), format!("must not be negative, got {v}")));
             }
         }
         for (i, v) in self.satellite_inertia_kg_m2.iter().enumerate() {
-            if !(*v >= 0.0) {
+            if *v < 0.0 {
                 return Err(loc.err(
                     &format!("stack.satellite_inertia_kg_m2[{i}]"),
                     format!("must not be negative, got {v}"),
