@@ -35,8 +35,9 @@ pub fn modal(
     })?;
     if let (Some(stack), Some(ps)) = (&scene.file.stack, &sys.result.prestress)
         && let Some(lambda) = ps.buckling_factor
-            && lambda < 1.0 {
-                return Err(scene
+        && lambda < 1.0
+    {
+        return Err(scene
                     .locator()
                     .err(
                         "stack.preload_total_n",
@@ -48,7 +49,7 @@ pub fn modal(
                         ),
                     )
                     .into());
-            }
+    }
     Ok((model, sys))
 }
 
