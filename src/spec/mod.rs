@@ -7,10 +7,12 @@
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod model;
+pub mod qualify;
 pub mod separation;
 pub mod stack;
 
 pub use model::*;
+pub use qualify::{GatesSpec, LogKind, TestLogSpec};
 pub use stack::{InterfaceSpec, StackSpec};
 
 use crate::error::SpecError;
@@ -50,6 +52,12 @@ pub struct SceneFile {
     /// A parametric stack, expanded into the generic model (issue: the preloaded stack).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stack: Option<StackSpec>,
+    /// Pass/fail thresholds of `qualify` (defaults documented in `spec::qualify`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gates: Option<GatesSpec>,
+    /// Measured logs to post-process and gate.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub test_log: Vec<TestLogSpec>,
     /// The in-orbit release (issue 6): springs, schedule, contact; geometry from `[stack]`.
     #[serde(default)]
     pub separation: Option<separation::SeparationSpec>,
@@ -89,6 +97,11 @@ impl Scene {
             None => file.clone(),
         };
         model::validate(&model, &loc)?;
+        qualify::validate(
+            &file.gates.clone().unwrap_or_default(),
+            &file.test_log,
+            &loc,
+        )?;
         Ok(Scene {
             path: path.to_path_buf(),
             text: text.to_string(),

@@ -199,6 +199,18 @@ pub struct DispersionSpec {
     /// 1σ skew of each electromagnet release time, s (a negative draw is clamped at the unlock).
     #[serde(default)]
     pub release_skew_sigma_s: f64,
+    /// Monte Carlo runs that `qualify` makes (0: none; `satqual separate --monte-carlo N`
+    /// overrides it).
+    #[serde(default)]
+    pub runs: usize,
+    /// Seed of the Monte Carlo (ChaCha); the same seed gives the same percentiles.
+    #[serde(default)]
+    pub seed: u64,
+    /// Run the Monte Carlo with rigid guide bars: 30x faster (`satqual bench separation`:
+    /// 750x real time against 22x), at a measured bias of about 2e-3 m/s on the exit speed
+    /// (docs/separation.md). The nominal run always keeps the flexible bars.
+    #[serde(default)]
+    pub rigid_bars: bool,
 }
 
 /// Every default of `[separation]`, with its source.
