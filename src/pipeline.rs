@@ -227,15 +227,15 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
                 src_ax,
             ));
         }
-        if let Some(ps) = &r.prestress {
-            if let Some(l) = ps.buckling_factor {
-                gates.push(gates::at_least(
-                    "stack buckling factor under the preload",
-                    l,
-                    limits.min_buckling_factor,
-                    "linear buckling (K + λ·K_G)φ = 0, [gates] min_buckling_factor",
-                ));
-            }
+        if let Some(ps) = &r.prestress
+            && let Some(l) = ps.buckling_factor
+        {
+            gates.push(gates::at_least(
+                "stack buckling factor under the preload",
+                l,
+                limits.min_buckling_factor,
+                "linear buckling (K + λ·K_G)φ = 0, [gates] min_buckling_factor",
+            ));
         }
         if f.stack.as_ref().is_some_and(|s| s.satellites == 2) {
             for (label, dir, measured) in [("x", 0usize, 29.1), ("y", 1, 31.2), ("z", 2, 77.6)] {
@@ -392,15 +392,15 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
                 source: "paper §4".into(),
             });
         }
-        if let Some(last) = result.satellites.last() {
-            if let Some(t) = last.exit_time_s {
-                comparison.push(PaperComparison {
-                    quantity: format!("time for satellite {} to clear the bars", last.index),
-                    paper: "about 9.5 s".into(),
-                    satqual: format!("{t:.2} s"),
-                    source: "paper §4, Fig. 12".into(),
-                });
-            }
+        if let Some(last) = result.satellites.last()
+            && let Some(t) = last.exit_time_s
+        {
+            comparison.push(PaperComparison {
+                quantity: format!("time for satellite {} to clear the bars", last.index),
+                paper: "about 9.5 s".into(),
+                satqual: format!("{t:.2} s"),
+                source: "paper §4, Fig. 12".into(),
+            });
         }
         sep_summary = Some(SeparationSummary {
             result,

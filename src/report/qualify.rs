@@ -98,88 +98,87 @@ fn figures(q: &Qualification, files: &mut Files) -> Result<Vec<Figure>, Error> {
             )?,
         });
     }
-    if let Some(sep) = &q.separation {
-        if let Some(h) = &sep.result.history {
-            let n = h.satellites.len();
-            let mut speed: Vec<Vec<(f64, f64)>> = vec![Vec::new(); n];
-            let mut rate: Vec<Vec<(f64, f64)>> = vec![Vec::new(); n];
-            let mut z: Vec<Vec<(f64, f64)>> = vec![Vec::new(); n];
-            for (k, t) in h.times_s.iter().enumerate() {
-                for i in 0..n {
-                    if let Some(s) = h.satellites[i].get(k) {
-                        speed[i].push((*t, s[6]));
-                        rate[i].push((*t, s[10]));
-                        z[i].push((*t, s[2]));
-                    }
+    if let Some(sep) = &q.separation
+        && let Some(h) = &sep.result.history
+    {
+        let n = h.satellites.len();
+        let mut speed: Vec<Vec<(f64, f64)>> = vec![Vec::new(); n];
+        let mut rate: Vec<Vec<(f64, f64)>> = vec![Vec::new(); n];
+        let mut z: Vec<Vec<(f64, f64)>> = vec![Vec::new(); n];
+        for (k, t) in h.times_s.iter().enumerate() {
+            for i in 0..n {
+                if let Some(s) = h.satellites[i].get(k) {
+                    speed[i].push((*t, s[6]));
+                    rate[i].push((*t, s[10]));
+                    z[i].push((*t, s[2]));
                 }
             }
-            files.push((
-                "curves/separation_history.csv".into(),
-                csv(
-                    &{
-                        let mut hdr = String::from("time_s");
-                        for i in 1..=n {
-                            let _ = write!(hdr, ",sat{i}_z_m,sat{i}_speed_m_s,sat{i}_rate_deg_s");
-                        }
-                        hdr
-                    },
-                    h.times_s.iter().enumerate().map(|(k, t)| {
-                        let mut row = vec![*t];
-                        for i in 0..n {
-                            let s = h.satellites[i].get(k).copied().unwrap_or([f64::NAN; 11]);
-                            row.extend([s[2], s[6], s[10]]);
-                        }
-                        row
-                    }),
-                ),
-            ));
-            fn mk(pts: &[Vec<(f64, f64)>]) -> Vec<Series<'_>> {
-                pts.iter()
-                    .enumerate()
-                    .map(|(i, p)| Series {
-                        label: format!("satellite {}", i + 1),
-                        points: p,
-                    })
-                    .collect()
-            }
-            figs.push(Figure {
-                stem: "separation_position".into(),
-                caption: "Axial position of each satellite during the release (bar root at 0)"
-                    .into(),
-                svg: lines_svg(
-                    "Separation: trajectories",
-                    "time [s]",
-                    "z [m]",
-                    &mk(&z),
-                    Scale::Linear,
-                    Scale::Linear,
-                )?,
-            });
-            figs.push(Figure {
-                stem: "separation_speed".into(),
-                caption: "Speed of each satellite; dips are contacts with the guide bars".into(),
-                svg: lines_svg(
-                    "Separation: speed",
-                    "time [s]",
-                    "speed [m/s]",
-                    &mk(&speed),
-                    Scale::Linear,
-                    Scale::Linear,
-                )?,
-            });
-            figs.push(Figure {
-                stem: "separation_rate".into(),
-                caption: "Angular rate of each satellite".into(),
-                svg: lines_svg(
-                    "Separation: angular rate",
-                    "time [s]",
-                    "rate [deg/s]",
-                    &mk(&rate),
-                    Scale::Linear,
-                    Scale::Linear,
-                )?,
-            });
         }
+        files.push((
+            "curves/separation_history.csv".into(),
+            csv(
+                &{
+                    let mut hdr = String::from("time_s");
+                    for i in 1..=n {
+                        let _ = write!(hdr, ",sat{i}_z_m,sat{i}_speed_m_s,sat{i}_rate_deg_s");
+                    }
+                    hdr
+                },
+                h.times_s.iter().enumerate().map(|(k, t)| {
+                    let mut row = vec![*t];
+                    for i in 0..n {
+                        let s = h.satellites[i].get(k).copied().unwrap_or([f64::NAN; 11]);
+                        row.extend([s[2], s[6], s[10]]);
+                    }
+                    row
+                }),
+            ),
+        ));
+        fn mk(pts: &[Vec<(f64, f64)>]) -> Vec<Series<'_>> {
+            pts.iter()
+                .enumerate()
+                .map(|(i, p)| Series {
+                    label: format!("satellite {}", i + 1),
+                    points: p,
+                })
+                .collect()
+        }
+        figs.push(Figure {
+            stem: "separation_position".into(),
+            caption: "Axial position of each satellite during the release (bar root at 0)".into(),
+            svg: lines_svg(
+                "Separation: trajectories",
+                "time [s]",
+                "z [m]",
+                &mk(&z),
+                Scale::Linear,
+                Scale::Linear,
+            )?,
+        });
+        figs.push(Figure {
+            stem: "separation_speed".into(),
+            caption: "Speed of each satellite; dips are contacts with the guide bars".into(),
+            svg: lines_svg(
+                "Separation: speed",
+                "time [s]",
+                "speed [m/s]",
+                &mk(&speed),
+                Scale::Linear,
+                Scale::Linear,
+            )?,
+        });
+        figs.push(Figure {
+            stem: "separation_rate".into(),
+            caption: "Angular rate of each satellite".into(),
+            svg: lines_svg(
+                "Separation: angular rate",
+                "time [s]",
+                "rate [deg/s]",
+                &mk(&rate),
+                Scale::Linear,
+                Scale::Linear,
+            )?,
+        });
     }
     Ok(figs)
 }

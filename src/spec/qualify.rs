@@ -120,13 +120,13 @@ pub fn validate(gates: &GatesSpec, logs: &[TestLogSpec], loc: &Locator) -> Resul
         if l.file.trim().is_empty() {
             return Err(loc.err(&format!("test_log[{i}].file"), "empty file name"));
         }
-        if let Some(fs) = l.fs_hz {
-            if fs <= 0.0 {
-                return Err(loc.err(
-                    &format!("test_log[{i}].fs_hz"),
-                    format!("must be positive, got {fs}"),
-                ));
-            }
+        if let Some(fs) = l.fs_hz
+            && fs <= 0.0
+        {
+            return Err(loc.err(
+                &format!("test_log[{i}].fs_hz"),
+                format!("must be positive, got {fs}"),
+            ));
         }
     }
     Ok(())
