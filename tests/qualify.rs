@@ -13,7 +13,13 @@ fn tmp(name: &str) -> PathBuf {
 
 fn qualify(scene: &Path, out: &Path, threads: Option<&str>) -> std::process::Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_satqual"));
-    c.args(["qualify", scene.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    c.args([
+        "qualify",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     if let Some(t) = threads {
         c.env("RAYON_NUM_THREADS", t);
     }
@@ -25,17 +31,38 @@ fn modal_only_scene_skips_the_rest_and_says_so() {
     let d = tmp("modal-only");
     let out = d.join("report");
     // FV5: first modes 42.6 Hz (y, z) and 125 Hz (x): every stiffness gate passes.
-    let o = qualify(Path::new("test-specs/verification/nafems-fv5.toml"), &out, None);
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let o = qualify(
+        Path::new("test-specs/verification/nafems-fv5.toml"),
+        &out,
+        None,
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(v["ran"], serde_json::json!(["modal"]));
-    let skipped: Vec<String> = v["skipped"].as_array().unwrap().iter().map(|s| s["analysis"].as_str().unwrap().to_string()).collect();
+    let skipped: Vec<String> = v["skipped"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["analysis"].as_str().unwrap().to_string())
+        .collect();
     for a in ["separation"] {
-        assert!(skipped.iter().any(|s| s == a), "{a} not listed as skipped: {skipped:?}");
+        assert!(
+            skipped.iter().any(|s| s == a),
+            "{a} not listed as skipped: {skipped:?}"
+        );
     }
     assert!(v.get("separation").is_none());
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(md.contains("skipped **separation**"), "the report says what was skipped");
+    assert!(
+        md.contains("skipped **separation**"),
+        "the report says what was skipped"
+    );
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("<svg") && html.contains("Verdict"));
     // Self-contained: no external resources (the SVG namespace URI is not a fetch).
@@ -53,16 +80,41 @@ fn failed_gate_exits_1_names_it_and_still_writes_the_report() {
     std::fs::write(&scene, text).unwrap();
     let out = d.join("report");
     let mut c = Command::new(env!("CARGO_BIN_EXE_satqual"));
-    let o = c.args(["qualify", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]).output().unwrap();
-    assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = c
+        .args([
+            "qualify",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("FAILED first lateral frequency") && stdout.contains("margin -82."), "{stdout}");
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert!(
+        stdout.contains("FAILED first lateral frequency") && stdout.contains("margin -82."),
+        "{stdout}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(v["pass"], false);
-    let failed: Vec<&serde_json::Value> = v["gates"].as_array().unwrap().iter().filter(|g| g["pass"] == false).collect();
+    let failed: Vec<&serde_json::Value> = v["gates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|g| g["pass"] == false)
+        .collect();
     assert!(!failed.is_empty());
     for g in failed {
-        assert!(g["margin"].as_f64().unwrap() < 0.0 && g["source"].as_str().unwrap().contains("launcher"));
+        assert!(
+            g["margin"].as_f64().unwrap() < 0.0
+                && g["source"].as_str().unwrap().contains("launcher")
+        );
     }
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("class=\"fail\""), "a failed gate is marked");
@@ -77,7 +129,11 @@ fn results_json_is_byte_identical_across_thread_counts() {
     let oa = qualify(Path::new("test-specs/paper-stack.toml"), &a, Some("1"));
     let ob = qualify(Path::new("test-specs/paper-stack.toml"), &b, Some("2"));
     assert_eq!(oa.status.code(), ob.status.code());
-    assert!(matches!(oa.status.code(), Some(0) | Some(1)), "{}", String::from_utf8_lossy(&oa.stderr));
+    assert!(
+        matches!(oa.status.code(), Some(0) | Some(1)),
+        "{}",
+        String::from_utf8_lossy(&oa.stderr)
+    );
     let ja = std::fs::read(a.join("results.json")).unwrap();
     let jb = std::fs::read(b.join("results.json")).unwrap();
     assert!(ja == jb, "results.json differs between 1 and 2 threads");
@@ -93,23 +149,36 @@ fn bad_scene_exits_2_and_leaves_no_report() {
     let o = qualify(&scene, &out, None);
     assert_eq!(o.status.code(), Some(2));
     assert!(!out.exists(), "nothing half-written");
-    let leftovers: Vec<_> = std::fs::read_dir(&d).unwrap().filter_map(|e| e.ok()).map(|e| e.file_name()).collect();
+    let leftovers: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name())
+        .collect();
     assert_eq!(leftovers.len(), 1, "only the scene remains: {leftovers:?}");
     let _ = std::fs::remove_dir_all(&d);
 }
 
 #[test]
 fn report_renders_in_headless_chromium() {
-    let Some(chromium) = ["/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome"]
-        .iter()
-        .find(|p| Path::new(p).exists())
-    else {
-        println!("SKIPPED report_renders_in_headless_chromium: no Chromium installed (apt-get install chromium)");
+    let Some(chromium) = [
+        "/usr/bin/chromium",
+        "/usr/bin/chromium-browser",
+        "/usr/bin/google-chrome",
+    ]
+    .iter()
+    .find(|p| Path::new(p).exists()) else {
+        println!(
+            "SKIPPED report_renders_in_headless_chromium: no Chromium installed (apt-get install chromium)"
+        );
         return;
     };
     let d = tmp("chromium");
     let out = d.join("report");
-    let o = qualify(Path::new("test-specs/verification/nafems-fv4.toml"), &out, None);
+    let o = qualify(
+        Path::new("test-specs/verification/nafems-fv4.toml"),
+        &out,
+        None,
+    );
     assert!(o.status.code().is_some());
     let png = d.join("page.png");
     let profile = d.join("profile");
@@ -125,11 +194,17 @@ fn report_renders_in_headless_chromium() {
             &format!("--user-data-dir={}", profile.display()),
             &format!("--screenshot={}", png.display()),
             "--window-size=1200,3000",
-            &format!("file://{}", std::fs::canonicalize(out.join("report.html")).unwrap().display()),
+            &format!(
+                "file://{}",
+                std::fs::canonicalize(out.join("report.html"))
+                    .unwrap()
+                    .display()
+            ),
         ])
         .output()
         .unwrap();
-    let bytes = std::fs::read(&png).unwrap_or_else(|_| panic!("no screenshot: {}", String::from_utf8_lossy(&r.stderr)));
+    let bytes = std::fs::read(&png)
+        .unwrap_or_else(|_| panic!("no screenshot: {}", String::from_utf8_lossy(&r.stderr)));
     assert_eq!(&bytes[1..4], b"PNG");
     // The page has its plots: count <svg> elements in the DOM as Chromium parsed it.
     let dom = Command::new(chromium)
@@ -140,12 +215,24 @@ fn report_renders_in_headless_chromium() {
             "--disable-background-networking",
             &format!("--user-data-dir={}", profile.display()),
             "--dump-dom",
-            &format!("file://{}", std::fs::canonicalize(out.join("report.html")).unwrap().display()),
+            &format!(
+                "file://{}",
+                std::fs::canonicalize(out.join("report.html"))
+                    .unwrap()
+                    .display()
+            ),
         ])
         .output()
         .unwrap();
     let dom = String::from_utf8_lossy(&dom.stdout);
-    assert!(dom.matches("<svg").count() >= 1, "no plot in the rendered page");
-    assert!(bytes.len() > 20_000, "the screenshot is nearly empty ({} bytes)", bytes.len());
+    assert!(
+        dom.matches("<svg").count() >= 1,
+        "no plot in the rendered page"
+    );
+    assert!(
+        bytes.len() > 20_000,
+        "the screenshot is nearly empty ({} bytes)",
+        bytes.len()
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

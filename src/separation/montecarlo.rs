@@ -132,16 +132,6 @@ pub fn monte_carlo(
     runs: usize,
     seed: u64,
 ) -> Result<MonteCarloResult, SeparationError> {
-    let rigid;
-    let model = if model.monte_carlo_rigid_bars && model.bars.is_some() {
-        rigid = Model {
-            bars: None,
-            ..model.clone()
-        };
-        &rigid
-    } else {
-        model
-    };
     let results = (0..runs as u64)
         .into_par_iter()
         .map(|i| {

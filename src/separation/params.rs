@@ -83,9 +83,7 @@ pub struct Model {
     pub base_height_m: f64,
     /// `None`: rigid bars.
     pub bars: Option<ModalBar>,
-    /// The Monte Carlo replaces the flexible bars by rigid ones (`[separation.dispersion]
-    /// rigid_bars`).
-    pub monte_carlo_rigid_bars: bool,
+
     pub contact: ContactParams,
     /// Four springs per interface, interface-major: index (k − 1)·4 + column.
     pub springs: Vec<SpringParams>,
@@ -221,7 +219,6 @@ impl Model {
             bar_length_m: stack.bar_length_m,
             base_height_m: stack.base_height_m,
             bars,
-            monte_carlo_rigid_bars: sep.dispersion.rigid_bars,
             contact: ContactParams {
                 stiffness: c.stiffness_n_m1_5,
                 exponent: c.exponent,

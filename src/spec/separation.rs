@@ -206,11 +206,6 @@ pub struct DispersionSpec {
     /// Seed of the Monte Carlo (ChaCha); the same seed gives the same percentiles.
     #[serde(default)]
     pub seed: u64,
-    /// Run the Monte Carlo with rigid guide bars: 30x faster (`satqual bench separation`:
-    /// 750x real time against 22x), at a measured bias of about 2e-3 m/s on the exit speed
-    /// (docs/separation.md). The nominal run always keeps the flexible bars.
-    #[serde(default)]
-    pub rigid_bars: bool,
 }
 
 /// Every default of `[separation]`, with its source.
