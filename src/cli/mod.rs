@@ -8,8 +8,11 @@ use std::io::Write;
 
 mod bench;
 mod bench_fem;
+mod bench_response;
 mod expand;
 mod modal;
+mod random;
+mod sine;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -28,6 +31,10 @@ pub enum Command {
     Modal(modal::Args),
     /// Write a [stack] scene out as the generic model (TOML) on stdout.
     Expand(expand::Args),
+    /// Sine-sweep base-excitation response, joint loads and lock-integrity margins.
+    Sine(sine::Args),
+    /// Random-vibration base-excitation response (Grms, 3σ), loads and margins.
+    Random(random::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -44,6 +51,8 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
     match cli.command {
         Command::Modal(a) => modal::run(a),
         Command::Expand(a) => expand::run(a),
+        Command::Sine(a) => sine::run(a),
+        Command::Random(a) => random::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }
