@@ -82,7 +82,7 @@ fn max_rel(a: &[f64], b: &[f64]) -> f64 {
 }
 
 pub fn run(out: &Path) -> Result<(), Error> {
-    // ---- random: paper stack, x axis ----
+    // ---- random: paper stack, x axis, at the scene's Q = 15 and at Q = 100 ----
     let rs = "test-specs/paper-stack.toml";
     let scene = load(rs)?;
     let (model, sys) = satqual::pipeline::modal(&scene, None, None)?;
@@ -90,30 +90,47 @@ pub fn run(out: &Path) -> Result<(), Error> {
     let spec = scene.file.random.clone().ok_or_else(|| Error::Other(format!("{rs} has no [random]")))?;
     let table = spec.table();
     let (lo, hi) = (table[0].0, table[table.len() - 1].0);
-    let axis = 0;
-    let basis = prep.basis(axis, None, true)?;
-    let frf = prep.modal_frf(&basis);
-    let rows: Vec<usize> = prep.outputs.points.iter().map(|p| p.rows[axis]).collect();
     let n_ref = 400_000;
-    let reference = grms(&frf, &rows, &grid::log_n(lo, hi, n_ref), &table);
     let mut random = Vec::new();
-    for (pd, pm) in [(10, 5), (20, 11), (30, 21), (60, 41), (100, 81)] {
-        let g = GridSpec { per_decade: pd, per_mode: pm, halfwidth: 5.0 };
-        let t = Instant::now();
-        let f = satqual::response::random::grid_for(&spec, &basis, g);
-        let v = grms(&frf, &rows, &f, &table);
-        random.push(GridRow {
-            grid: format!("clustered {pd}/decade + {pm}/mode (±5ζ)"),
-            points: f.len(),
-            max_error_pct: max_rel(&v, &reference),
-            time_ms: ms(t),
-        });
-    }
-    for n in [300usize, 1000, 3000, 10_000, 30_000, 100_000] {
-        let t = Instant::now();
-        let f = grid::log_n(lo, hi, n);
-        let v = grms(&frf, &rows, &f, &table);
-        random.push(GridRow { grid: "uniform log".into(), points: n, max_error_pct: max_rel(&v, &reference), time_ms: ms(t) });
+    for q in [None, Some(100.0)] {
+        let mut p = Prepared::new(&scene, &model, &sys)?;
+        if let Some(q) = q {
+            p.damping = satqual::spec::analysis::DampingSpec { q: Some(q), ..Default::default() };
+        }
+        let qname = format!("Q = {:.0}", 0.5 / p.damping.zeta_at(100.0));
+        let axis = 0;
+        let basis = p.basis(axis, None, true)?;
+        let frf = p.modal_frf(&basis);
+        let rows: Vec<usize> = p.outputs.points.iter().map(|x| x.rows[axis]).collect();
+        let reference = grms(&frf, &rows, &grid::log_n(lo, hi, n_ref), &table);
+        for (pd, pm, tail) in [
+            (10, 5, 0.0),
+            (20, 11, 0.0),
+            (30, 21, 0.0),
+            (60, 41, 0.0),
+            (100, 81, 0.0),
+            (20, 21, 1.25),
+            (60, 41, 1.25),
+        ] {
+            let g = GridSpec { per_decade: pd, per_mode: pm, halfwidth: 5.0, tail_ratio: tail };
+            let t = Instant::now();
+            let f = satqual::response::random::grid_for(&spec, &basis, g);
+            let v = grms(&frf, &rows, &f, &table);
+            let tails = if tail > 1.0 { format!(", tails ×{tail}") } else { String::new() };
+            let default = if g == GridSpec::RANDOM { " (default)" } else { "" };
+            random.push(GridRow {
+                grid: format!("{qname}: clustered {pd}/decade + {pm}/mode (±5ζ){tails}{default}"),
+                points: f.len(),
+                max_error_pct: max_rel(&v, &reference),
+                time_ms: ms(t),
+            });
+        }
+        for n in [300usize, 1000, 3000, 10_000, 30_000] {
+            let t = Instant::now();
+            let f = grid::log_n(lo, hi, n);
+            let v = grms(&frf, &rows, &f, &table);
+            random.push(GridRow { grid: format!("{qname}: uniform log"), points: n, max_error_pct: max_rel(&v, &reference), time_ms: ms(t) });
+        }
     }
 
     // ---- sine: shaker-2sat, x axis ----
@@ -122,7 +139,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
     let (m2, sys2) = satqual::pipeline::modal(&s2, None, None)?;
     let p2 = Prepared::new(&s2, &m2, &sys2)?;
     let sspec = s2.file.sine.clone().ok_or_else(|| Error::Other(format!("{ss} has no [sine]")))?;
-    let dense = GridSpec { per_decade: 200, per_mode: 401, halfwidth: 4.0 };
+    let dense = GridSpec { per_decade: 200, per_mode: 401, halfwidth: 4.0, tail_ratio: 0.0 };
     let r = satqual::response::sine::run(&p2, &sspec, 0, &SineOptions { grid: dense, ..Default::default() })?;
     let peak_ref: Vec<f64> = r.peaks.iter().map(|p| p.acceleration_g).collect();
     let b2 = p2.basis(0, None, true)?;
@@ -144,7 +161,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
     };
     let mut sine = Vec::new();
     for (pd, pm) in [(10, 5), (20, 11), (40, 21), (60, 41), (60, 81)] {
-        let g = GridSpec { per_decade: pd, per_mode: pm, halfwidth: 4.0 };
+        let g = GridSpec { per_decade: pd, per_mode: pm, halfwidth: 4.0, tail_ratio: 0.0 };
         let t = Instant::now();
         let f = grid::clustered(slo, shi, &modes2, g, &[5.0, 8.0, 100.0]);
         let v = peaks_on(&f);
@@ -256,7 +273,7 @@ fn markdown(b: &Bench) -> String {
     let _ = writeln!(s, "# satqual bench response\n");
     let _ = writeln!(
         s,
-        "## Random: Grms error against frequency points\n\n{} axis {}, every response point; reference: {} log-spaced points. Error = max over points.\n",
+        "## Random: Grms error against frequency points\n\n{} axis {}, every response point, at the scene's damping and at Q = 100; reference: {} log-spaced points. Error = max over points.\n",
         b.random_scene, b.random_axis, b.random_reference_points
     );
     let _ = writeln!(s, "| grid | points | max Grms error % | time ms |\n|---|---:|---:|---:|");
