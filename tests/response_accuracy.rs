@@ -34,14 +34,36 @@ fn sdof_sine_peak_transmissibility() {
     let at_fn = (1.0 + 4.0 * ZETA * ZETA).sqrt() / (2.0 * ZETA);
     // Grid alone (no refinement) and the refined peak: both within 0.5 % (issue 4).
     for refine in [false, true] {
-        let r = satqual::response::sine::run(&prep, &spec, 0, &SineOptions { refine, ..Default::default() }).unwrap();
+        let r = satqual::response::sine::run(
+            &prep,
+            &spec,
+            0,
+            &SineOptions {
+                refine,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let p = &r.peaks[0];
         assert_eq!(p.name, "mass");
         let err = (p.acceleration_g - exact).abs() / exact;
-        assert!(err < 0.005, "refine {refine}: peak {} vs exact max {exact}: {:.3e}", p.acceleration_g, err);
+        assert!(
+            err < 0.005,
+            "refine {refine}: peak {} vs exact max {exact}: {:.3e}",
+            p.acceleration_g,
+            err
+        );
         let err_fn = (p.acceleration_g - at_fn).abs() / at_fn;
-        assert!(err_fn < 0.005, "refine {refine}: peak {} vs √(1+(2ζ)²)/(2ζ) = {at_fn}", p.acceleration_g);
-        assert!((p.frequency_hz - rp * FN).abs() < 0.5, "peak frequency {}", p.frequency_hz);
+        assert!(
+            err_fn < 0.005,
+            "refine {refine}: peak {} vs √(1+(2ζ)²)/(2ζ) = {at_fn}",
+            p.acceleration_g
+        );
+        assert!(
+            (p.frequency_hz - rp * FN).abs() < 0.5,
+            "peak frequency {}",
+            p.frequency_hz
+        );
         if refine {
             // The refinement finds the analytic maximum itself.
             assert!(err < 1e-6, "refined peak error {err:.3e}");
@@ -68,9 +90,22 @@ fn sdof_sine_grid_meets_half_percent_for_any_damping() {
                 ((1.0 + c * c) / ((1.0 - r * r).powi(2) + c * c)).sqrt()
             })
             .fold(0.0, f64::max);
-        let r = satqual::response::sine::run(&prep, &spec, 0, &SineOptions { refine: false, ..Default::default() }).unwrap();
+        let r = satqual::response::sine::run(
+            &prep,
+            &spec,
+            0,
+            &SineOptions {
+                refine: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let err = (r.peaks[0].acceleration_g - exact).abs() / exact;
-        assert!(err < 0.005, "Q {q}: grid peak {} vs {exact}: {err:.2e}", r.peaks[0].acceleration_g);
+        assert!(
+            err < 0.005,
+            "Q {q}: grid peak {} vs {exact}: {err:.2e}",
+            r.peaks[0].acceleration_g
+        );
     }
 }
 
@@ -98,13 +133,21 @@ fn sdof_random_grms_exact_and_miles() {
     let exact = simpson(20.0, 2000.0, 2_000_000, s).sqrt();
     let err = (x.grms - exact).abs() / exact;
     assert!(err < 0.005, "Grms {} vs exact {exact}: {err:.2e}", x.grms);
-    assert!(r.frequency_points < 2_000_000 / 1000, "a small fraction of the points: {}", r.frequency_points);
+    assert!(
+        r.frequency_points < 2_000_000 / 1000,
+        "a small fraction of the points: {}",
+        r.frequency_points
+    );
     // Miles: Grms² = π/2·fn·Q·S (DESIGN.md, Miles 1954). The exact integral over 0–∞ is
     // Miles²·(1 + 4ζ²); the band 20–2000 Hz leaves out ∫0–20 and ∫2000–∞ of |T|²·S. The
     // difference between our Grms² and Miles² must be that band-limit difference (0.5 %).
     let q = 0.5 / ZETA;
     let miles2 = std::f64::consts::FRAC_PI_2 * FN * q * s;
-    assert!((x.miles_grms - miles2.sqrt()).abs() / miles2.sqrt() < 1e-9, "Miles column {}", x.miles_grms);
+    assert!(
+        (x.miles_grms - miles2.sqrt()).abs() / miles2.sqrt() < 1e-9,
+        "Miles column {}",
+        x.miles_grms
+    );
     let below = simpson(0.0, 20.0, 20_000, s);
     // Above 2000 Hz: substitute f = 2000/u, df = 2000/u² du, u in (0, 1].
     let above = {
@@ -120,11 +163,18 @@ fn sdof_random_grms_exact_and_miles() {
     };
     let expected = miles2 * (1.0 + 4.0 * ZETA * ZETA) - below - above;
     let err = (x.grms * x.grms - expected).abs() / expected;
-    assert!(err < 0.005, "Grms² {} vs Miles²(1+4ζ²) − band limits {expected}: {err:.2e}", x.grms * x.grms);
+    assert!(
+        err < 0.005,
+        "Grms² {} vs Miles²(1+4ζ²) − band limits {expected}: {err:.2e}",
+        x.grms * x.grms
+    );
     // The difference from Miles is the band-limit (and 4ζ²) difference, to 2 % of itself.
     let ours = x.grms * x.grms - miles2;
     let predicted = expected - miles2;
-    assert!((ours - predicted).abs() < 0.02 * predicted.abs(), "Grms² − Miles² = {ours} vs predicted {predicted}");
+    assert!(
+        (ours - predicted).abs() < 0.02 * predicted.abs(),
+        "Grms² − Miles² = {ours} vs predicted {predicted}"
+    );
 }
 
 #[test]
@@ -142,7 +192,10 @@ fn gevs_profile_is_14_1_grms() {
 fn integration_rule_is_exact_for_cubics() {
     // The fourth-order rule of grid::integrate on a non-uniform grid.
     let x: Vec<f64> = (0..30).map(|k| (k as f64 * 0.37).powf(1.3)).collect();
-    let y: Vec<f64> = x.iter().map(|&t| 2.0 - t + 0.5 * t * t - 0.01 * t * t * t).collect();
+    let y: Vec<f64> = x
+        .iter()
+        .map(|&t| 2.0 - t + 0.5 * t * t - 0.01 * t * t * t)
+        .collect();
     let b = x[x.len() - 1];
     let exact = 2.0 * b - b * b / 2.0 + b.powi(3) / 6.0 - 0.0025 * b.powi(4);
     assert!((grid::integrate(&x, &y) - exact).abs() < 1e-9 * exact.abs());
@@ -159,9 +212,20 @@ fn modal_with_residual_matches_direct_on_the_paper_stack() {
     let prep = Prepared::new(&scene, &model, &sys).unwrap();
     assert!(prep.outputs.points.len() == 7, "6 satellites + top");
     let mut f = grid::log_n(5.0, 100.0, 12);
-    f.extend(sys.result.modes.iter().map(|m| m.frequency_hz).filter(|&x| x > 5.0 && x < 100.0 && x < 40.0));
+    f.extend(
+        sys.result
+            .modes
+            .iter()
+            .map(|m| m.frequency_hz)
+            .filter(|&x| x > 5.0 && x < 100.0 && x < 40.0),
+    );
     f.sort_by(f64::total_cmp);
-    let n200 = sys.result.modes.iter().filter(|m| m.frequency_hz <= 200.0).count();
+    let n200 = sys
+        .result
+        .modes
+        .iter()
+        .filter(|m| m.frequency_hz <= 200.0)
+        .count();
     for axis in [0usize, 1, 2] {
         let direct = prep.direct_frf(axis).unwrap();
         let hd = satqual::response::frf::on_grid(&direct, &f);
@@ -176,7 +240,11 @@ fn modal_with_residual_matches_direct_on_the_paper_stack() {
                     worst = worst.max((hm[k][r] - hd[k][r]).norm() / hd[k][r].norm());
                 }
             }
-            assert!(worst < bound, "axis {axis}, modes {:?}: max error {worst:.3e}", n);
+            assert!(
+                worst < bound,
+                "axis {axis}, modes {:?}: max error {worst:.3e}",
+                n
+            );
         }
     }
 }
@@ -192,7 +260,12 @@ fn residual_vector_recovers_the_static_response_exactly() {
     let d = prep.direct_frf(0).unwrap();
     let f = [0.01];
     let hd = satqual::response::frf::on_grid(&d, &f);
-    let max_load = prep.outputs.interfaces.iter().map(|i| hd[0][i.rows[0]].norm()).fold(0.0, f64::max);
+    let max_load = prep
+        .outputs
+        .interfaces
+        .iter()
+        .map(|i| hd[0][i.rows[0]].norm())
+        .fold(0.0, f64::max);
     for (residual, must_match) in [(true, true), (false, false)] {
         let b = prep.basis(0, Some(1), residual).unwrap();
         let m = prep.modal_frf(&b);
@@ -238,8 +311,17 @@ fn random_grid_converges_against_a_fine_grid_on_the_stack() {
     for (i, p) in r.responses.iter().enumerate() {
         let reference = grid::integrate(&fine, &psd[i]).sqrt();
         let err = (p.grms - reference).abs() / reference;
-        assert!(err < 0.005, "{}: {} vs {reference}: {err:.2e}", p.name, p.grms);
+        assert!(
+            err < 0.005,
+            "{}: {} vs {reference}: {err:.2e}",
+            p.name,
+            p.grms
+        );
     }
-    assert!(r.frequency_points * 20 < fine.len(), "{} points", r.frequency_points);
+    assert!(
+        r.frequency_points * 20 < fine.len(),
+        "{} points",
+        r.frequency_points
+    );
     assert_eq!(GridSpec::RANDOM.halfwidth, 5.0, "the issue's ±5ζ band");
 }

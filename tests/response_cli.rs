@@ -15,9 +15,24 @@ fn satqual(args: &[&str], threads: Option<&str>) -> std::process::Output {
 #[test]
 fn sine_json_contract_and_out_dir() {
     let dir = std::env::temp_dir().join(format!("satqual-sine-{}", std::process::id()));
-    let out = satqual(&["sine", "test-specs/shaker-2sat.toml", "--axis", "z", "--json", "--out", dir.to_str().unwrap()], None);
+    let out = satqual(
+        &[
+            "sine",
+            "test-specs/shaker-2sat.toml",
+            "--axis",
+            "z",
+            "--json",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        None,
+    );
     let code = out.status.code();
-    assert!(code == Some(0) || code == Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        code == Some(0) || code == Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout is JSON");
     let axes = v["axes"].as_array().unwrap();
     assert_eq!(axes.len(), 1);
@@ -42,7 +57,11 @@ fn sine_json_contract_and_out_dir() {
     assert!(ms.iter().any(|m| m["kind"] == "bar yield"));
     let pass = ms.iter().all(|m| m["pass"].as_bool().unwrap());
     assert_eq!(v["pass"].as_bool().unwrap(), pass);
-    assert_eq!(code, Some(if pass { 0 } else { 1 }), "exit code follows the margins");
+    assert_eq!(
+        code,
+        Some(if pass { 0 } else { 1 }),
+        "exit code follows the margins"
+    );
     // The human summary went to stderr.
     assert!(String::from_utf8_lossy(&out.stderr).contains("lock integrity"));
     let csv = std::fs::read_to_string(dir.join("sine-z.csv")).unwrap();
@@ -55,8 +74,22 @@ fn sine_json_contract_and_out_dir() {
 #[test]
 fn random_json_contract_and_out_dir() {
     let dir = std::env::temp_dir().join(format!("satqual-random-{}", std::process::id()));
-    let out = satqual(&["random", "test-specs/verification/sdof-base.toml", "--json", "--out", dir.to_str().unwrap()], None);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = satqual(
+        &[
+            "random",
+            "test-specs/verification/sdof-base.toml",
+            "--json",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let a = &v["axes"][0];
     assert_eq!(a["axis"], "x");
@@ -73,16 +106,28 @@ fn random_json_contract_and_out_dir() {
     let csv = std::fs::read_to_string(dir.join("random-x.csv")).unwrap();
     assert!(csv.starts_with("frequency_hz,input_g2_hz,\"mass [g2/Hz]\""));
     let svg = std::fs::read_to_string(dir.join("random-x.svg")).unwrap();
-    assert!(svg.contains("input profile"), "the input is drawn on the random plot");
+    assert!(
+        svg.contains("input profile"),
+        "the input is drawn on the random plot"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn json_is_identical_whatever_the_thread_count() {
     for cmd in ["sine", "random"] {
-        let a = satqual(&[cmd, "test-specs/shaker-2sat.toml", "--axis", "x", "--json"], Some("1"));
-        let b = satqual(&[cmd, "test-specs/shaker-2sat.toml", "--axis", "x", "--json"], Some("2"));
+        let a = satqual(
+            &[cmd, "test-specs/shaker-2sat.toml", "--axis", "x", "--json"],
+            Some("1"),
+        );
+        let b = satqual(
+            &[cmd, "test-specs/shaker-2sat.toml", "--axis", "x", "--json"],
+            Some("2"),
+        );
         assert!(!a.stdout.is_empty());
-        assert_eq!(a.stdout, b.stdout, "{cmd}: JSON depends on the thread count");
+        assert_eq!(
+            a.stdout, b.stdout,
+            "{cmd}: JSON depends on the thread count"
+        );
     }
 }

@@ -20,21 +20,36 @@ fn err_with(from: &str, to: &str) -> String {
 }
 
 fn line_of(text: &str, needle: &str) -> usize {
-    text.lines().position(|l| l.contains(needle)).expect("needle") + 1
+    text.lines()
+        .position(|l| l.contains(needle))
+        .expect("needle")
+        + 1
 }
 
 #[test]
 fn profile_with_non_increasing_frequencies() {
-    let e = err_with("profile = [[20.0, 0.1], [2000.0, 0.1]]", "profile = [[20.0, 0.1], [2000.0, 0.1], [1500.0, 0.1]]");
+    let e = err_with(
+        "profile = [[20.0, 0.1], [2000.0, 0.1]]",
+        "profile = [[20.0, 0.1], [2000.0, 0.1], [1500.0, 0.1]]",
+    );
     assert!(e.contains("key `random.profile[2]`"), "{e}");
     assert!(e.contains("must increase: 1500 Hz follows 2000 Hz"), "{e}");
-    assert!(e.starts_with(&format!("bad.toml:{}:", line_of(&base(), "profile = "))), "{e}");
+    assert!(
+        e.starts_with(&format!("bad.toml:{}:", line_of(&base(), "profile = "))),
+        "{e}"
+    );
 }
 
 #[test]
 fn negative_psd_level() {
-    let e = err_with("profile = [[20.0, 0.1], [2000.0, 0.1]]", "profile = [[20.0, 0.1], [2000.0, -0.1]]");
-    assert!(e.contains("key `random.profile[1]`") && e.contains("must be positive"), "{e}");
+    let e = err_with(
+        "profile = [[20.0, 0.1], [2000.0, 0.1]]",
+        "profile = [[20.0, 0.1], [2000.0, -0.1]]",
+    );
+    assert!(
+        e.contains("key `random.profile[1]`") && e.contains("must be positive"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -49,32 +64,55 @@ fn negative_sine_level() {
 #[test]
 fn sine_segment_gap_and_overlap() {
     let two = |from: f64| {
-        format!("acceleration_g = 1.0\n[[sine.segment]]\nfrom_hz = {from}\nto_hz = 2000.0\nacceleration_g = 0.5")
+        format!(
+            "acceleration_g = 1.0\n[[sine.segment]]\nfrom_hz = {from}\nto_hz = 2000.0\nacceleration_g = 0.5"
+        )
     };
     let e = err_with("acceleration_g = 1.0", &two(1200.0));
     assert!(e.contains("key `sine.segment[1].from_hz`"), "{e}");
-    assert!(e.contains("a gap between segments: segment 0 ends at 1000 Hz but this one starts at 1200 Hz"), "{e}");
+    assert!(
+        e.contains(
+            "a gap between segments: segment 0 ends at 1000 Hz but this one starts at 1200 Hz"
+        ),
+        "{e}"
+    );
     let e = err_with("acceleration_g = 1.0", &two(900.0));
     assert!(e.contains("an overlap between segments"), "{e}");
     // The error points at the second segment's from_hz line.
     let text = base().replacen("acceleration_g = 1.0", &two(900.0), 1);
-    let line = text.lines().position(|l| l.contains("from_hz = 900")).unwrap() + 1;
+    let line = text
+        .lines()
+        .position(|l| l.contains("from_hz = 900"))
+        .unwrap()
+        + 1;
     assert!(e.starts_with(&format!("bad.toml:{line}:")), "{e}");
 }
 
 #[test]
 fn segment_with_both_or_no_levels_and_backwards_band() {
-    let e = err_with("acceleration_g = 1.0", "acceleration_g = 1.0\ndisplacement_m = 1e-3");
-    assert!(e.contains("give exactly one of `displacement_m` or `acceleration_g`"), "{e}");
+    let e = err_with(
+        "acceleration_g = 1.0",
+        "acceleration_g = 1.0\ndisplacement_m = 1e-3",
+    );
+    assert!(
+        e.contains("give exactly one of `displacement_m` or `acceleration_g`"),
+        "{e}"
+    );
     let e = err_with("to_hz = 1000.0", "to_hz = 5.0");
-    assert!(e.contains("key `sine.segment[0].to_hz`") && e.contains("10 Hz to 5 Hz"), "{e}");
+    assert!(
+        e.contains("key `sine.segment[0].to_hz`") && e.contains("10 Hz to 5 Hz"),
+        "{e}"
+    );
 }
 
 #[test]
 fn response_point_naming_a_missing_node() {
     let e = err_with("name = \"mass\"\nnode = 2", "name = \"mass\"\nnode = 7");
     assert!(e.contains("key `response[0].node`"), "{e}");
-    assert!(e.contains("response point `mass` names node 7, which is not defined"), "{e}");
+    assert!(
+        e.contains("response point `mass` names node 7, which is not defined"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -99,10 +137,22 @@ fn unknown_keys_axes_and_margins() {
     let e = err_with("[damping]", "[damping]\nqq = 3.0");
     assert!(e.contains("unknown field `qq`"), "{e}");
     let e = err_with("axes = [\"x\"]", "axes = [\"w\"]");
-    assert!(e.contains("key `sine.axes[0]`") && e.contains("unknown axis `w`"), "{e}");
-    let e = err_with("[[response]]", "[margins]\nfitting_factor = 0.9\n\n[[response]]");
-    assert!(e.contains("key `margins.fitting_factor`") && e.contains("at least 1"), "{e}");
-    let e = err_with("[[response]]", "[margins]\npreload_loss = 1.5\n\n[[response]]");
+    assert!(
+        e.contains("key `sine.axes[0]`") && e.contains("unknown axis `w`"),
+        "{e}"
+    );
+    let e = err_with(
+        "[[response]]",
+        "[margins]\nfitting_factor = 0.9\n\n[[response]]",
+    );
+    assert!(
+        e.contains("key `margins.fitting_factor`") && e.contains("at least 1"),
+        "{e}"
+    );
+    let e = err_with(
+        "[[response]]",
+        "[margins]\npreload_loss = 1.5\n\n[[response]]",
+    );
     assert!(e.contains("key `margins.preload_loss`"), "{e}");
 }
 
@@ -118,7 +168,10 @@ fn cli_reports_bad_input_with_exit_2() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("gap.toml:") && err.contains("sine.segment[1].from_hz"), "{err}");
+    assert!(
+        err.contains("gap.toml:") && err.contains("sine.segment[1].from_hz"),
+        "{err}"
+    );
     assert!(!err.contains("panicked"), "{err}");
     assert!(out.stdout.is_empty());
     // A scene without [random] asked for a random run.
@@ -134,7 +187,12 @@ fn cli_reports_bad_input_with_exit_2() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no [random] section"));
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_satqual"))
-        .args(["sine", "test-specs/verification/sdof-base.toml", "--axis", "q"])
+        .args([
+            "sine",
+            "test-specs/verification/sdof-base.toml",
+            "--axis",
+            "q",
+        ])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));

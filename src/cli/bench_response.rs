@@ -64,7 +64,12 @@ fn load(path: &str) -> Result<Scene, Error> {
 }
 
 /// Grms of the given point rows on a grid (piecewise power-law rule).
-fn grms(frf: &satqual::response::ModalFrf, rows: &[usize], f: &[f64], table: &[(f64, f64)]) -> Vec<f64> {
+fn grms(
+    frf: &satqual::response::ModalFrf,
+    rows: &[usize],
+    f: &[f64],
+    table: &[(f64, f64)],
+) -> Vec<f64> {
     let mut psd = vec![vec![0.0; f.len()]; rows.len()];
     let mut h = Vec::new();
     for (k, &x) in f.iter().enumerate() {
@@ -78,7 +83,11 @@ fn grms(frf: &satqual::response::ModalFrf, rows: &[usize], f: &[f64], table: &[(
 }
 
 fn max_rel(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| ((x - y) / y).abs()).fold(0.0, f64::max) * 100.0
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| ((x - y) / y).abs())
+        .fold(0.0, f64::max)
+        * 100.0
 }
 
 pub fn run(out: &Path) -> Result<(), Error> {
@@ -87,7 +96,11 @@ pub fn run(out: &Path) -> Result<(), Error> {
     let scene = load(rs)?;
     let (model, sys) = satqual::pipeline::modal(&scene, None, None)?;
     let prep = Prepared::new(&scene, &model, &sys)?;
-    let spec = scene.file.random.clone().ok_or_else(|| Error::Other(format!("{rs} has no [random]")))?;
+    let spec = scene
+        .file
+        .random
+        .clone()
+        .ok_or_else(|| Error::Other(format!("{rs} has no [random]")))?;
     let table = spec.table();
     let (lo, hi) = (table[0].0, table[table.len() - 1].0);
     let n_ref = 400_000;
@@ -95,7 +108,10 @@ pub fn run(out: &Path) -> Result<(), Error> {
     for q in [None, Some(100.0)] {
         let mut p = Prepared::new(&scene, &model, &sys)?;
         if let Some(q) = q {
-            p.damping = satqual::spec::analysis::DampingSpec { q: Some(q), ..Default::default() };
+            p.damping = satqual::spec::analysis::DampingSpec {
+                q: Some(q),
+                ..Default::default()
+            };
         }
         let qname = format!("Q = {:.0}", 0.5 / p.damping.zeta_at(100.0));
         let axis = 0;
@@ -112,12 +128,25 @@ pub fn run(out: &Path) -> Result<(), Error> {
             (20, 21, 1.25),
             (60, 41, 1.25),
         ] {
-            let g = GridSpec { per_decade: pd, per_mode: pm, halfwidth: 5.0, tail_ratio: tail };
+            let g = GridSpec {
+                per_decade: pd,
+                per_mode: pm,
+                halfwidth: 5.0,
+                tail_ratio: tail,
+            };
             let t = Instant::now();
             let f = satqual::response::random::grid_for(&spec, &basis, g);
             let v = grms(&frf, &rows, &f, &table);
-            let tails = if tail > 1.0 { format!(", tails ×{tail}") } else { String::new() };
-            let default = if g == GridSpec::RANDOM { " (default)" } else { "" };
+            let tails = if tail > 1.0 {
+                format!(", tails ×{tail}")
+            } else {
+                String::new()
+            };
+            let default = if g == GridSpec::RANDOM {
+                " (default)"
+            } else {
+                ""
+            };
             random.push(GridRow {
                 grid: format!("{qname}: clustered {pd}/decade + {pm}/mode (±5ζ){tails}{default}"),
                 points: f.len(),
@@ -129,7 +158,12 @@ pub fn run(out: &Path) -> Result<(), Error> {
             let t = Instant::now();
             let f = grid::log_n(lo, hi, n);
             let v = grms(&frf, &rows, &f, &table);
-            random.push(GridRow { grid: format!("{qname}: uniform log"), points: n, max_error_pct: max_rel(&v, &reference), time_ms: ms(t) });
+            random.push(GridRow {
+                grid: format!("{qname}: uniform log"),
+                points: n,
+                max_error_pct: max_rel(&v, &reference),
+                time_ms: ms(t),
+            });
         }
     }
 
@@ -138,9 +172,26 @@ pub fn run(out: &Path) -> Result<(), Error> {
     let s2 = load(ss)?;
     let (m2, sys2) = satqual::pipeline::modal(&s2, None, None)?;
     let p2 = Prepared::new(&s2, &m2, &sys2)?;
-    let sspec = s2.file.sine.clone().ok_or_else(|| Error::Other(format!("{ss} has no [sine]")))?;
-    let dense = GridSpec { per_decade: 200, per_mode: 401, halfwidth: 4.0, tail_ratio: 0.0 };
-    let r = satqual::response::sine::run(&p2, &sspec, 0, &SineOptions { grid: dense, ..Default::default() })?;
+    let sspec = s2
+        .file
+        .sine
+        .clone()
+        .ok_or_else(|| Error::Other(format!("{ss} has no [sine]")))?;
+    let dense = GridSpec {
+        per_decade: 200,
+        per_mode: 401,
+        halfwidth: 4.0,
+        tail_ratio: 0.0,
+    };
+    let r = satqual::response::sine::run(
+        &p2,
+        &sspec,
+        0,
+        &SineOptions {
+            grid: dense,
+            ..Default::default()
+        },
+    )?;
     let peak_ref: Vec<f64> = r.peaks.iter().map(|p| p.acceleration_g).collect();
     let b2 = p2.basis(0, None, true)?;
     let f2 = p2.modal_frf(&b2);
@@ -161,17 +212,32 @@ pub fn run(out: &Path) -> Result<(), Error> {
     };
     let mut sine = Vec::new();
     for (pd, pm) in [(10, 5), (20, 11), (40, 21), (60, 41), (60, 81)] {
-        let g = GridSpec { per_decade: pd, per_mode: pm, halfwidth: 4.0, tail_ratio: 0.0 };
+        let g = GridSpec {
+            per_decade: pd,
+            per_mode: pm,
+            halfwidth: 4.0,
+            tail_ratio: 0.0,
+        };
         let t = Instant::now();
         let f = grid::clustered(slo, shi, &modes2, g, &[5.0, 8.0, 100.0]);
         let v = peaks_on(&f);
-        sine.push(GridRow { grid: format!("clustered {pd}/decade + {pm}/mode (±4ζ)"), points: f.len(), max_error_pct: max_rel(&v, &peak_ref), time_ms: ms(t) });
+        sine.push(GridRow {
+            grid: format!("clustered {pd}/decade + {pm}/mode (±4ζ)"),
+            points: f.len(),
+            max_error_pct: max_rel(&v, &peak_ref),
+            time_ms: ms(t),
+        });
     }
     for n in [100usize, 300, 1000, 3000, 10_000] {
         let t = Instant::now();
         let f = grid::log_n(slo, shi, n);
         let v = peaks_on(&f);
-        sine.push(GridRow { grid: "uniform log".into(), points: n, max_error_pct: max_rel(&v, &peak_ref), time_ms: ms(t) });
+        sine.push(GridRow {
+            grid: "uniform log".into(),
+            points: n,
+            max_error_pct: max_rel(&v, &peak_ref),
+            time_ms: ms(t),
+        });
     }
 
     // ---- truncation: paper stack, against the direct solution, 5–100 Hz ----
@@ -194,26 +260,68 @@ pub fn run(out: &Path) -> Result<(), Error> {
             .outputs
             .interfaces
             .iter()
-            .flat_map(|i| i.rows.iter().enumerate().map(|(c, &r)| (r, c / 3)).collect::<Vec<_>>())
-            .chain(prep.outputs.stations.iter().flat_map(|s| s.rows.iter().enumerate().map(|(c, &r)| (r, usize::from(c > 0))).collect::<Vec<_>>()))
+            .flat_map(|i| {
+                i.rows
+                    .iter()
+                    .enumerate()
+                    .map(|(c, &r)| (r, c / 3))
+                    .collect::<Vec<_>>()
+            })
+            .chain(prep.outputs.stations.iter().flat_map(|s| {
+                s.rows
+                    .iter()
+                    .enumerate()
+                    .map(|(c, &r)| (r, usize::from(c > 0)))
+                    .collect::<Vec<_>>()
+            }))
             .collect();
-        let raw: Vec<f64> = load_rows.iter().map(|&(r, _)| hd.iter().map(|h| h[r].norm()).fold(0.0, f64::max)).collect();
+        let raw: Vec<f64> = load_rows
+            .iter()
+            .map(|&(r, _)| hd.iter().map(|h| h[r].norm()).fold(0.0, f64::max))
+            .collect();
         // An output that the axis does not load (a z force under x drive) has a round-off
         // peak: scale its error by 1e-3 of the largest output of its class instead.
         let class_max: Vec<f64> = (0..2)
-            .map(|c| load_rows.iter().zip(&raw).filter(|((_, k), _)| *k == c).map(|(_, &v)| v).fold(0.0, f64::max))
+            .map(|c| {
+                load_rows
+                    .iter()
+                    .zip(&raw)
+                    .filter(|((_, k), _)| *k == c)
+                    .map(|(_, &v)| v)
+                    .fold(0.0, f64::max)
+            })
             .collect();
         // A class that the axis does not load at all (bending under a symmetric z drive) is
         // round-off throughout: floor it at 1e-6 of the largest load of any kind.
         let all_max = class_max[0].max(class_max[1]);
-        let peak: Vec<f64> = load_rows.iter().zip(&raw).map(|(&(_, c), &v)| v.max(1e-3 * class_max[c]).max(1e-6 * all_max)).collect();
+        let peak: Vec<f64> = load_rows
+            .iter()
+            .zip(&raw)
+            .map(|(&(_, c), &v)| v.max(1e-3 * class_max[c]).max(1e-6 * all_max))
+            .collect();
         let point_rows: Vec<usize> = prep.outputs.points.iter().map(|p| p.rows[axis]).collect();
         // Mode counts by cut-off frequency: below, at, and above the 100 Hz band edge.
-        let count = |fc: f64| sys.result.modes.iter().filter(|m| m.frequency_hz <= fc).count();
-        let mut counts: Vec<usize> = [50.0, 100.0, 125.0, 150.0, 200.0, 300.0, 500.0, 1000.0, f64::INFINITY]
-            .iter()
-            .map(|&fc| count(fc))
-            .collect();
+        let count = |fc: f64| {
+            sys.result
+                .modes
+                .iter()
+                .filter(|m| m.frequency_hz <= fc)
+                .count()
+        };
+        let mut counts: Vec<usize> = [
+            50.0,
+            100.0,
+            125.0,
+            150.0,
+            200.0,
+            300.0,
+            500.0,
+            1000.0,
+            f64::INFINITY,
+        ]
+        .iter()
+        .map(|&fc| count(fc))
+        .collect();
         counts.dedup();
         for n in counts {
             for residual in [false, true] {
@@ -276,30 +384,53 @@ fn markdown(b: &Bench) -> String {
         "## Random: Grms error against frequency points\n\n{} axis {}, every response point, at the scene's damping and at Q = 100; reference: {} log-spaced points. Error = max over points.\n",
         b.random_scene, b.random_axis, b.random_reference_points
     );
-    let _ = writeln!(s, "| grid | points | max Grms error % | time ms |\n|---|---:|---:|---:|");
+    let _ = writeln!(
+        s,
+        "| grid | points | max Grms error % | time ms |\n|---|---:|---:|---:|"
+    );
     for r in &b.random {
-        let _ = writeln!(s, "| {} | {} | {:.2e} | {:.1} |", r.grid, r.points, r.max_error_pct, r.time_ms);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.2e} | {:.1} |",
+            r.grid, r.points, r.max_error_pct, r.time_ms
+        );
     }
     let _ = writeln!(
         s,
         "\n## Sine: peak error against frequency points (no refinement)\n\n{} axis {}; reference: refined peaks on a 200/decade + 401/mode grid.\n",
         b.sine_scene, b.sine_axis
     );
-    let _ = writeln!(s, "| grid | points | max peak error % | time ms |\n|---|---:|---:|---:|");
+    let _ = writeln!(
+        s,
+        "| grid | points | max peak error % | time ms |\n|---|---:|---:|---:|"
+    );
     for r in &b.sine {
-        let _ = writeln!(s, "| {} | {} | {:.2e} | {:.1} |", r.grid, r.points, r.max_error_pct, r.time_ms);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.2e} | {:.1} |",
+            r.grid, r.points, r.max_error_pct, r.time_ms
+        );
     }
     let _ = writeln!(
         s,
         "\n## Modal truncation against the direct solution (5–100 Hz)\n\n{}: {} frequencies (40 log-spaced + every mode in the band); the direct complex solves took {:.0} ms for both axes. Point error: max |H_modal − H_direct|/|H_direct| over response points and frequencies; load error: max over joint forces and bar-station loads, scaled by each output's peak.\n",
         b.truncation_scene, b.truncation_frequencies, b.direct_time_ms
     );
-    let _ = writeln!(s, "| axis | modes | highest mode Hz | residual vector | point error % | load error % | time ms |\n|---|---:|---:|---|---:|---:|---:|");
+    let _ = writeln!(
+        s,
+        "| axis | modes | highest mode Hz | residual vector | point error % | load error % | time ms |\n|---|---:|---:|---|---:|---:|---:|"
+    );
     for r in &b.truncation {
         let _ = writeln!(
             s,
             "| {} | {} | {:.1} | {} | {:.3e} | {:.3e} | {:.1} |",
-            r.axis, r.modes, r.highest_mode_hz, if r.residual_vector { "yes" } else { "no" }, r.point_error_pct, r.load_error_pct, r.time_ms
+            r.axis,
+            r.modes,
+            r.highest_mode_hz,
+            if r.residual_vector { "yes" } else { "no" },
+            r.point_error_pct,
+            r.load_error_pct,
+            r.time_ms
         );
     }
     s

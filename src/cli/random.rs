@@ -45,7 +45,12 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let prep = Prepared::new(&scene, &model, &sys)?;
     let mut results = Vec::new();
     for &a in &axes {
-        results.push(response::random::run(&prep, &spec, a, &RandomOptions::default())?);
+        results.push(response::random::run(
+            &prep,
+            &spec,
+            a,
+            &RandomOptions::default(),
+        )?);
     }
     let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
     let damping = super::sine::damping_text(&prep.damping, scene.file.damping.is_some());
@@ -67,7 +72,15 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         }
         super::sine::summarize_margins(&mut t, &r.margins);
     }
-    let _ = write!(t, "lock integrity: {}", if pass { "PASS" } else { "FAIL (a margin is negative)" });
+    let _ = write!(
+        t,
+        "lock integrity: {}",
+        if pass {
+            "PASS"
+        } else {
+            "FAIL (a margin is negative)"
+        }
+    );
     p.human(&t);
     p.json(&Output {
         scene: args.scene.display().to_string(),
@@ -78,19 +91,30 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     if let Some(dir) = &args.out {
         for r in &results {
             let name = format!("random-{}", r.axis);
-            satqual::report::write_atomic(&dir.join(format!("{name}.csv")), r.curves.to_csv("input_g2_hz").as_bytes())?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}.csv")),
+                r.curves.to_csv("input_g2_hz").as_bytes(),
+            )?;
             let svg = super::sine::plot(
                 &r.curves,
-                &format!("Random, axis {}: response PSD ({:.2} Grms input)", r.axis, r.input_grms),
+                &format!(
+                    "Random, axis {}: response PSD ({:.2} Grms input)",
+                    r.axis, r.input_grms
+                ),
                 "PSD [g²/Hz]",
                 "input profile [g²/Hz]",
                 true,
             );
             satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
         }
-        let json = serde_json::to_string_pretty(&results).map_err(|e| Error::Other(e.to_string()))?;
+        let json =
+            serde_json::to_string_pretty(&results).map_err(|e| Error::Other(e.to_string()))?;
         satqual::report::write_atomic(&dir.join("random.json"), json.as_bytes())?;
         p.human(&format!("curves and plots written to {}", dir.display()));
     }
-    Ok(if pass { Outcome::Pass } else { Outcome::GateFailed })
+    Ok(if pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
 }

@@ -57,7 +57,11 @@ pub fn damping_text(d: &satqual::spec::analysis::DampingSpec, given: bool) -> St
             0.5 / satqual::spec::analysis::DEFAULT_Q
         ),
     };
-    if given { base } else { format!("{base}, default (no [damping] in the scene)") }
+    if given {
+        base
+    } else {
+        format!("{base}, default (no [damping] in the scene)")
+    }
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
@@ -73,7 +77,12 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let prep = Prepared::new(&scene, &model, &sys)?;
     let mut results = Vec::new();
     for &a in &axes {
-        results.push(response::sine::run(&prep, &spec, a, &SineOptions::default())?);
+        results.push(response::sine::run(
+            &prep,
+            &spec,
+            a,
+            &SineOptions::default(),
+        )?);
     }
     let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
     let p = Printer::new(args.json);
@@ -99,15 +108,41 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
                 pk.name, pk.acceleration_g, pk.frequency_hz, pk.transmissibility
             );
         }
-        if let Some(i) = r.interfaces.iter().max_by(|a, b| a.max_tension_n.total_cmp(&b.max_tension_n)) {
-            let _ = writeln!(t, "  worst joint tension {:.0} N ({}), shear {:.0} N", i.max_tension_n, i.name, i.max_shear_n);
+        if let Some(i) = r
+            .interfaces
+            .iter()
+            .max_by(|a, b| a.max_tension_n.total_cmp(&b.max_tension_n))
+        {
+            let _ = writeln!(
+                t,
+                "  worst joint tension {:.0} N ({}), shear {:.0} N",
+                i.max_tension_n, i.name, i.max_shear_n
+            );
         }
-        if let Some(s) = r.bar_stations.iter().max_by(|a, b| a.max_stress_pa.total_cmp(&b.max_stress_pa)) {
-            let _ = writeln!(t, "  worst guide-bar dynamic stress {:.1} MPa ({} at {:.2} Hz)", s.max_stress_pa / 1e6, s.name, s.frequency_hz);
+        if let Some(s) = r
+            .bar_stations
+            .iter()
+            .max_by(|a, b| a.max_stress_pa.total_cmp(&b.max_stress_pa))
+        {
+            let _ = writeln!(
+                t,
+                "  worst guide-bar dynamic stress {:.1} MPa ({} at {:.2} Hz)",
+                s.max_stress_pa / 1e6,
+                s.name,
+                s.frequency_hz
+            );
         }
         summarize_margins(&mut t, &r.margins);
     }
-    let _ = write!(t, "lock integrity: {}", if pass { "PASS" } else { "FAIL (a margin is negative)" });
+    let _ = write!(
+        t,
+        "lock integrity: {}",
+        if pass {
+            "PASS"
+        } else {
+            "FAIL (a margin is negative)"
+        }
+    );
     p.human(&t);
     p.json(&Output {
         scene: args.scene.display().to_string(),
@@ -118,15 +153,29 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     if let Some(dir) = &args.out {
         for r in &results {
             let name = format!("sine-{}", r.axis);
-            satqual::report::write_atomic(&dir.join(format!("{name}.csv")), r.curves.to_csv("input_g").as_bytes())?;
-            let svg = plot(&r.curves, &format!("Sine, axis {}: absolute acceleration", r.axis), "acceleration amplitude [g]", "input [g]", false);
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}.csv")),
+                r.curves.to_csv("input_g").as_bytes(),
+            )?;
+            let svg = plot(
+                &r.curves,
+                &format!("Sine, axis {}: absolute acceleration", r.axis),
+                "acceleration amplitude [g]",
+                "input [g]",
+                false,
+            );
             satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
         }
-        let json = serde_json::to_string_pretty(&results).map_err(|e| Error::Other(e.to_string()))?;
+        let json =
+            serde_json::to_string_pretty(&results).map_err(|e| Error::Other(e.to_string()))?;
         satqual::report::write_atomic(&dir.join("sine.json"), json.as_bytes())?;
         p.human(&format!("curves and plots written to {}", dir.display()));
     }
-    Ok(if pass { Outcome::Pass } else { Outcome::GateFailed })
+    Ok(if pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
 }
 
 /// The worst margin of each kind.
@@ -136,7 +185,11 @@ pub fn summarize_margins(t: &mut String, ms: &[response::Margin]) {
     kinds.sort();
     kinds.dedup();
     for k in kinds {
-        if let Some(m) = ms.iter().filter(|m| m.kind == k).min_by(|a, b| a.margin.total_cmp(&b.margin)) {
+        if let Some(m) = ms
+            .iter()
+            .filter(|m| m.kind == k)
+            .min_by(|a, b| a.margin.total_cmp(&b.margin))
+        {
             let _ = writeln!(
                 t,
                 "  min MS {:<12} {:>+9.2} ({}: {:.4e} vs allowable {:.4e}) {}",
@@ -152,14 +205,41 @@ pub fn summarize_margins(t: &mut String, ms: &[response::Margin]) {
 }
 
 /// The response-point curves of an analysis, with the input dashed.
-pub fn plot(c: &response::Curves, title: &str, y_label: &str, input_name: &str, log_y: bool) -> String {
+pub fn plot(
+    c: &response::Curves,
+    title: &str,
+    y_label: &str,
+    input_name: &str,
+    log_y: bool,
+) -> String {
     use satqual::report::svg_plot::{Plot, Series, render};
-    let mut series = vec![Series { name: input_name, x: &c.frequency_hz, y: &c.input, dashed: true }];
-    for (n, v) in c.series.iter().filter(|(n, _)| n.ends_with("[g]") || n.ends_with("[g2/Hz]")).take(7) {
-        series.push(Series { name: n, x: &c.frequency_hz, y: v, dashed: false });
+    let mut series = vec![Series {
+        name: input_name,
+        x: &c.frequency_hz,
+        y: &c.input,
+        dashed: true,
+    }];
+    for (n, v) in c
+        .series
+        .iter()
+        .filter(|(n, _)| n.ends_with("[g]") || n.ends_with("[g2/Hz]"))
+        .take(7)
+    {
+        series.push(Series {
+            name: n,
+            x: &c.frequency_hz,
+            y: v,
+            dashed: false,
+        });
     }
     render(
-        &Plot { title, x_label: "frequency [Hz]", y_label, log_x: true, log_y },
+        &Plot {
+            title,
+            x_label: "frequency [Hz]",
+            y_label,
+            log_x: true,
+            log_y,
+        },
         &series,
     )
 }

@@ -35,7 +35,9 @@ const COLORS: [&str; 8] = [
 ];
 
 fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// Renders the series as an SVG document. Non-finite points, and non-positive ones on a log
@@ -61,8 +63,9 @@ pub fn render(p: &Plot, series: &[Series]) -> String {
         (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
     }
     if p.log_y {
-        y0 = y0.floor();
+        // Six decades below the top are enough to read a PSD; deeper tails are clipped.
         y1 = y1.ceil();
+        y0 = y0.floor().max(y1 - 6.0);
     }
     if x1 - x0 <= 0.0 {
         x1 = x0 + 1.0;
@@ -147,7 +150,11 @@ pub fn render(p: &Plot, series: &[Series]) -> String {
                 let _ = write!(pts, "{:.1},{:.1} ", px(x), yy);
             }
         }
-        let dash = if se.dashed { r#" stroke-dasharray="6,4""# } else { "" };
+        let dash = if se.dashed {
+            r#" stroke-dasharray="6,4""#
+        } else {
+            ""
+        };
         let _ = writeln!(
             s,
             r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="1.5"{dash}/>"#,

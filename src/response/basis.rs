@@ -106,7 +106,7 @@ pub fn build(
     let mut omega = Vec::with_capacity(keep + 1);
     let mut gamma = Vec::with_capacity(keep + 1);
     for m in &modes[..keep] {
-        if !(m.eigenvalue > 0.0) {
+        if m.eigenvalue <= 0.0 {
             return Err(ResponseError::Invalid(format!(
                 "mode {} has a non-positive eigenvalue ({:.3e}): the model is not supported against rigid motion, so it cannot be driven by its supports",
                 m.index, m.eigenvalue

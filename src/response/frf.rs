@@ -171,10 +171,7 @@ impl DirectFrf {
         let n = self.p.len();
         let w = 2.0 * std::f64::consts::PI * f_hz;
         let a = faer::Mat::<c64>::from_fn(n, n, |i, j| {
-            c64::new(
-                self.k[(i, j)] - w * w * self.m[(i, j)],
-                w * self.c[(i, j)],
-            )
+            c64::new(self.k[(i, j)] - w * w * self.m[(i, j)], w * self.c[(i, j)])
         });
         let lu = a.partial_piv_lu();
         let mut x = faer::Mat::<c64>::from_fn(n, 1, |i, _| c64::new(-self.p[i], 0.0));

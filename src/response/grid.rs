@@ -43,7 +43,13 @@ impl GridSpec {
 
 /// Clustered grid over [lo, hi] for modes `(fn_hz, zeta)`; `extra` points (profile
 /// breakpoints) are added when inside the band.
-pub fn clustered(lo: f64, hi: f64, modes: &[(f64, f64)], spec: GridSpec, extra: &[f64]) -> Vec<f64> {
+pub fn clustered(
+    lo: f64,
+    hi: f64,
+    modes: &[(f64, f64)],
+    spec: GridSpec,
+    extra: &[f64],
+) -> Vec<f64> {
     let mut f = log_spaced(lo, hi, spec.per_decade);
     for &(fnat, z) in modes {
         if spec.per_mode < 2 {

@@ -42,14 +42,7 @@ pub struct Margin {
     pub source: String,
 }
 
-fn margin(
-    name: String,
-    kind: &str,
-    case: &str,
-    value: f64,
-    limit: f64,
-    source: String,
-) -> Margin {
+fn margin(name: String, kind: &str, case: &str, value: f64, limit: f64, source: String) -> Margin {
     let m = if value > 1e-12 * limit.abs().max(1e-300) {
         (limit / value - 1.0).min(MARGIN_CAP)
     } else {
@@ -69,7 +62,13 @@ fn margin(
 
 /// Gapping and slip of one joint under an external tension `p_ext` and shear `v_ext` (N).
 /// Joints without a known preload get no margin.
-pub fn interface(ifc: &InterfaceOut, p_ext: f64, v_ext: f64, s: &MarginsSpec, case: &str) -> Vec<Margin> {
+pub fn interface(
+    ifc: &InterfaceOut,
+    p_ext: f64,
+    v_ext: f64,
+    s: &MarginsSpec,
+    case: &str,
+) -> Vec<Margin> {
     let Some(nominal) = ifc.preload_n else {
         return Vec::new();
     };
@@ -116,7 +115,13 @@ pub fn bar_von_mises(st: &BarStation, s: &MarginsSpec, fs: f64, n: f64, mb: f64,
 /// Yield and ultimate margins of one bar station from its worst factored stresses
 /// (`vm_yield` with the yield factor, `vm_ult` with the ultimate factor), when the material
 /// gives the strengths.
-pub fn bar(st: &BarStation, s: &MarginsSpec, vm_yield: f64, vm_ult: f64, case: &str) -> Vec<Margin> {
+pub fn bar(
+    st: &BarStation,
+    s: &MarginsSpec,
+    vm_yield: f64,
+    vm_ult: f64,
+    case: &str,
+) -> Vec<Margin> {
     let mut out = Vec::new();
     if let Some(y) = st.yield_pa {
         out.push(margin(
@@ -157,7 +162,10 @@ pub fn bar(st: &BarStation, s: &MarginsSpec, vm_yield: f64, vm_ult: f64, case: &
 pub fn worst_per_item(ms: Vec<Margin>) -> Vec<Margin> {
     let mut out: Vec<Margin> = Vec::new();
     for m in ms {
-        match out.iter_mut().find(|o| o.name == m.name && o.kind == m.kind) {
+        match out
+            .iter_mut()
+            .find(|o| o.name == m.name && o.kind == m.kind)
+        {
             Some(o) => {
                 if m.margin < o.margin {
                     *o = m;

@@ -71,7 +71,12 @@ impl<'a> Prepared<'a> {
 
     /// The modal basis for `axis`: the first `n_modes` modes (all when `None`) and, when
     /// `residual`, the residual vector.
-    pub fn basis(&self, axis: usize, n_modes: Option<usize>, residual: bool) -> Result<Basis, Error> {
+    pub fn basis(
+        &self,
+        axis: usize,
+        n_modes: Option<usize>,
+        residual: bool,
+    ) -> Result<Basis, Error> {
         basis::build(self.model, self.sys, axis, &self.damping, n_modes, residual)
     }
 

@@ -183,10 +183,7 @@ impl OutputSet {
             let mat = scene.model.material.iter().find(|m| m.name == sb.material);
             let c = sec.map(fiber_distance).unwrap_or(0.0);
             let (zb, zt) = if c > 0.0 {
-                (
-                    b.props.sec.iy.min(b.props.sec.iz) / c,
-                    b.props.sec.j / c,
-                )
+                (b.props.sec.iy.min(b.props.sec.iz) / c, b.props.sec.j / c)
             } else {
                 (f64::INFINITY, f64::INFINITY)
             };

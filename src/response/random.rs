@@ -153,8 +153,15 @@ pub fn evaluate(
 ) -> Result<RandomAxis, Error> {
     let t = spec.table();
     let h = super::frf::on_grid(frf, f);
-    let input: Vec<f64> = f.iter().map(|&x| crate::units::loglog_interp(&t, x)).collect();
-    let psd = |row: usize| -> Vec<f64> { (0..f.len()).map(|k| h[k][row].norm_sqr() * input[k]).collect() };
+    let input: Vec<f64> = f
+        .iter()
+        .map(|&x| crate::units::loglog_interp(&t, x))
+        .collect();
+    let psd = |row: usize| -> Vec<f64> {
+        (0..f.len())
+            .map(|k| h[k][row].norm_sqr() * input[k])
+            .collect()
+    };
     let ms = |row: usize| grid::integrate(f, &psd(row));
     let o = &prep.outputs;
     let case = format!("random {}", axis_name(axis));
@@ -167,7 +174,10 @@ pub fn evaluate(
     for p in &o.points {
         let v = psd(p.rows[axis]);
         let g = grid::integrate(f, &v).sqrt();
-        let (k, pk) = v.iter().enumerate().fold((0, 0.0), |b, (i, &x)| if x > b.1 { (i, x) } else { b });
+        let (k, pk) = v
+            .iter()
+            .enumerate()
+            .fold((0, 0.0), |b, (i, &x)| if x > b.1 { (i, x) } else { b });
         responses.push(RandomPoint {
             name: p.name.clone(),
             node: p.node,
@@ -181,7 +191,13 @@ pub fn evaluate(
         curves.series.push((format!("{} [g2/Hz]", p.name), v));
     }
     let mut margin_list = Vec::new();
-    let face = |i: &super::outputs::InterfaceOut| if prep.margins.include_face_moment { i.face_a_over_z } else { 0.0 };
+    let face = |i: &super::outputs::InterfaceOut| {
+        if prep.margins.include_face_moment {
+            i.face_a_over_z
+        } else {
+            0.0
+        }
+    };
     let mut interfaces = Vec::new();
     for i in &o.interfaces {
         let r = i.rows;

@@ -100,7 +100,11 @@ pub fn run(
     let frf = prep.modal_frf(&basis);
     let (lo, hi) = spec.band();
     let modes = basis.excited_modes();
-    let breaks: Vec<f64> = spec.segment.iter().flat_map(|s| [s.from_hz, s.to_hz]).collect();
+    let breaks: Vec<f64> = spec
+        .segment
+        .iter()
+        .flat_map(|s| [s.from_hz, s.to_hz])
+        .collect();
     let f = grid::clustered(lo, hi, &modes, opts.grid, &breaks);
     let mut out = evaluate(prep, spec, axis, &frf, &f)?;
     out.modes_used = basis.n_modes;
@@ -109,9 +113,17 @@ pub fn run(
         // Refine each point's peak on the transfer function itself.
         for (pi, p) in prep.outputs.points.iter().enumerate() {
             let row = p.rows[axis];
-            let k = out.curves.series[pi].1.iter().enumerate().fold(0, |b, (i, v)| {
-                if *v > out.curves.series[pi].1[b] { i } else { b }
-            });
+            let k = out.curves.series[pi]
+                .1
+                .iter()
+                .enumerate()
+                .fold(0, |b, (i, v)| {
+                    if *v > out.curves.series[pi].1[b] {
+                        i
+                    } else {
+                        b
+                    }
+                });
             let a = f[k.saturating_sub(1)];
             let b = f[(k + 1).min(f.len() - 1)];
             let g = |x: f64| frf.eval_row(x, row).norm() * spec.level_g(x);
@@ -139,7 +151,11 @@ pub fn evaluate(
     let o = &prep.outputs;
     let case = format!("sine {}", axis_name(axis));
     let amp = |k: usize, row: usize| h[k][row].norm() * input[k];
-    let argmax = |v: &[f64]| v.iter().enumerate().fold((0, f64::MIN), |b, (i, &x)| if x > b.1 { (i, x) } else { b });
+    let argmax = |v: &[f64]| {
+        v.iter()
+            .enumerate()
+            .fold((0, f64::MIN), |b, (i, &x)| if x > b.1 { (i, x) } else { b })
+    };
 
     let mut curves = Curves {
         frequency_hz: f.to_vec(),
@@ -160,17 +176,29 @@ pub fn evaluate(
         curves.series.push((format!("{} [g]", p.name), v));
     }
     let mut ms = Vec::new();
-    let face = |i: &super::outputs::InterfaceOut| if prep.margins.include_face_moment { i.face_a_over_z } else { 0.0 };
+    let face = |i: &super::outputs::InterfaceOut| {
+        if prep.margins.include_face_moment {
+            i.face_a_over_z
+        } else {
+            0.0
+        }
+    };
     let mut interfaces = Vec::new();
     for i in &o.interfaces {
         let r = i.rows;
         let t: Vec<f64> = (0..f.len()).map(|k| amp(k, r[2])).collect();
-        let s: Vec<f64> = (0..f.len()).map(|k| amp(k, r[0]).hypot(amp(k, r[1]))).collect();
-        let m: Vec<f64> = (0..f.len()).map(|k| amp(k, r[3]).hypot(amp(k, r[4]))).collect();
+        let s: Vec<f64> = (0..f.len())
+            .map(|k| amp(k, r[0]).hypot(amp(k, r[1])))
+            .collect();
+        let m: Vec<f64> = (0..f.len())
+            .map(|k| amp(k, r[3]).hypot(amp(k, r[4])))
+            .collect();
         let (kt, tmax) = argmax(&t);
         let (ks, smax) = argmax(&s);
         let (_, mmax) = argmax(&m);
-        let pext = (0..f.len()).map(|k| t[k] + m[k] * face(i)).fold(0.0, f64::max);
+        let pext = (0..f.len())
+            .map(|k| t[k] + m[k] * face(i))
+            .fold(0.0, f64::max);
         ms.extend(margins::interface(i, pext, smax, &prep.margins, &case));
         interfaces.push(InterfaceSine {
             name: i.name.clone(),
@@ -198,11 +226,27 @@ pub fn evaluate(
             if sigma > best.3 {
                 best = (k, n, mb, sigma);
             }
-            vy = vy.max(margins::bar_von_mises(st, &prep.margins, prep.margins.yield_factor, n, mb, t));
-            vu = vu.max(margins::bar_von_mises(st, &prep.margins, prep.margins.ultimate_factor, n, mb, t));
+            vy = vy.max(margins::bar_von_mises(
+                st,
+                &prep.margins,
+                prep.margins.yield_factor,
+                n,
+                mb,
+                t,
+            ));
+            vu = vu.max(margins::bar_von_mises(
+                st,
+                &prep.margins,
+                prep.margins.ultimate_factor,
+                n,
+                mb,
+                t,
+            ));
         }
         let max_axial = (0..f.len()).map(|k| amp(k, r[0])).fold(0.0, f64::max);
-        let max_bend = (0..f.len()).map(|k| amp(k, r[2]).hypot(amp(k, r[3]))).fold(0.0, f64::max);
+        let max_bend = (0..f.len())
+            .map(|k| amp(k, r[2]).hypot(amp(k, r[3])))
+            .fold(0.0, f64::max);
         stations.push(BarStationSine {
             name: st.name.clone(),
             bar: st.bar.clone(),

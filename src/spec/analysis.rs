@@ -227,13 +227,10 @@ pub fn validate(
             .filter(|&&b| b)
             .count();
         if given != 1 {
-            return Err(loc.err(
-                "damping",
-                "give exactly one of `q`, `zeta` or `table`",
-            ));
+            return Err(loc.err("damping", "give exactly one of `q`, `zeta` or `table`"));
         }
         if let Some(q) = d.q
-            && !(q > 0.5)
+            && q <= 0.5
         {
             return Err(loc.err(
                 "damping.q",
@@ -241,7 +238,7 @@ pub fn validate(
             ));
         }
         if let Some(z) = d.zeta
-            && !(z > 0.0 && z < 1.0)
+            && (z <= 0.0 || z >= 1.0)
         {
             return Err(loc.err(
                 "damping.zeta",
@@ -254,16 +251,16 @@ pub fn validate(
             }
             for (i, p) in t.iter().enumerate() {
                 let k = format!("damping.table[{i}]");
-                if !(p[1] > 0.0 && p[1] < 1.0) {
+                if p[1] <= 0.0 || p[1] >= 1.0 {
                     return Err(loc.err(
                         &k,
                         format!("the damping ratio must lie in (0, 1), got {}", p[1]),
                     ));
                 }
-                if !(p[0] >= 0.0) {
+                if p[0] < 0.0 {
                     return Err(loc.err(&k, format!("negative frequency {} Hz", p[0])));
                 }
-                if i > 0 && !(p[0] > t[i - 1][0]) {
+                if i > 0 && p[0] <= t[i - 1][0] {
                     return Err(loc.err(
                         &k,
                         format!(
@@ -297,13 +294,13 @@ pub fn validate(
         }
         for (i, g) in s.segment.iter().enumerate() {
             let k = |x: &str| format!("sine.segment[{i}].{x}");
-            if !(g.from_hz > 0.0) {
+            if g.from_hz <= 0.0 {
                 return Err(loc.err(
                     &k("from_hz"),
                     format!("must be a positive frequency, got {}", g.from_hz),
                 ));
             }
-            if !(g.to_hz > g.from_hz) {
+            if g.to_hz <= g.from_hz {
                 return Err(loc.err(
                     &k("to_hz"),
                     format!(
@@ -319,13 +316,13 @@ pub fn validate(
                         "give exactly one of `displacement_m` or `acceleration_g`",
                     ));
                 }
-                (Some(d), None) if !(d > 0.0) => {
+                (Some(d), None) if d <= 0.0 => {
                     return Err(loc.err(
                         &k("displacement_m"),
                         format!("the level must be positive, got {d}"),
                     ));
                 }
-                (None, Some(a)) if !(a > 0.0) => {
+                (None, Some(a)) if a <= 0.0 => {
                     return Err(loc.err(
                         &k("acceleration_g"),
                         format!("the level must be positive, got {a}"),
@@ -337,7 +334,11 @@ pub fn validate(
                 let prev = s.segment[i - 1].to_hz;
                 let rel = (g.from_hz - prev).abs() / prev;
                 if rel > 1e-9 {
-                    let what = if g.from_hz > prev { "a gap" } else { "an overlap" };
+                    let what = if g.from_hz > prev {
+                        "a gap"
+                    } else {
+                        "an overlap"
+                    };
                     return Err(loc.err(
                         &k("from_hz"),
                         format!(
@@ -357,10 +358,10 @@ pub fn validate(
         }
         for (i, p) in r.profile.iter().enumerate() {
             let k = format!("random.profile[{i}]");
-            if !(p[0] > 0.0) {
+            if p[0] <= 0.0 {
                 return Err(loc.err(&k, format!("frequencies must be positive, got {} Hz", p[0])));
             }
-            if !(p[1] > 0.0) {
+            if p[1] <= 0.0 {
                 return Err(loc.err(
                     &k,
                     format!(
@@ -369,7 +370,7 @@ pub fn validate(
                     ),
                 ));
             }
-            if i > 0 && !(p[0] > r.profile[i - 1][0]) {
+            if i > 0 && p[0] <= r.profile[i - 1][0] {
                 return Err(loc.err(
                     &k,
                     format!(
@@ -381,7 +382,7 @@ pub fn validate(
             }
         }
         if let Some(d) = r.duration_s
-            && !(d > 0.0)
+            && d <= 0.0
         {
             return Err(loc.err("random.duration_s", format!("must be positive, got {d}")));
         }
@@ -391,7 +392,10 @@ pub fn validate(
         if !model.node.iter().any(|n| n.id == p.node) {
             return Err(loc.err(
                 &format!("response[{i}].node"),
-                format!("response point `{}` names node {}, which is not defined", p.name, p.node),
+                format!(
+                    "response point `{}` names node {}, which is not defined",
+                    p.name, p.node
+                ),
             ));
         }
         if !names.insert(p.name.as_str()) {
@@ -409,14 +413,14 @@ pub fn validate(
             ("yield_factor", m.yield_factor, 1.0),
             ("ultimate_factor", m.ultimate_factor, 1.0),
         ] {
-            if !(v >= lo) {
+            if v < lo {
                 return Err(loc.err(
                     &format!("margins.{key}"),
                     format!("a factor of safety must be at least {lo}, got {v}"),
                 ));
             }
         }
-        if !(m.friction_coefficient > 0.0) {
+        if m.friction_coefficient <= 0.0 {
             return Err(loc.err(
                 "margins.friction_coefficient",
                 format!("must be positive, got {}", m.friction_coefficient),
