@@ -47,6 +47,12 @@ fn sdof_sine_peak_transmissibility() {
         let p = &r.peaks[0];
         assert_eq!(p.name, "mass");
         let err = (p.acceleration_g - exact).abs() / exact;
+        eprintln!(
+            "SDOF sine peak, refine {refine}: {} g at {:.4} Hz; exact max {exact} at {:.4} Hz; error {err:.2e}",
+            p.acceleration_g,
+            p.frequency_hz,
+            rp * FN
+        );
         assert!(
             err < 0.005,
             "refine {refine}: peak {} vs exact max {exact}: {:.3e}",
@@ -132,6 +138,10 @@ fn sdof_random_grms_exact_and_miles() {
     let s = 0.1;
     let exact = simpson(20.0, 2000.0, 2_000_000, s).sqrt();
     let err = (x.grms - exact).abs() / exact;
+    eprintln!(
+        "SDOF random: Grms {} vs exact {exact} ({err:.2e}) on {} points; Miles {}",
+        x.grms, r.frequency_points, x.miles_grms
+    );
     assert!(err < 0.005, "Grms {} vs exact {exact}: {err:.2e}", x.grms);
     assert!(
         r.frequency_points < 2_000_000 / 1000,
@@ -240,6 +250,10 @@ fn modal_with_residual_matches_direct_on_the_paper_stack() {
                     worst = worst.max((hm[k][r] - hd[k][r]).norm() / hd[k][r].norm());
                 }
             }
+            eprintln!(
+                "modal vs direct, axis {axis}, {} modes + residual: max point error {worst:.3e}",
+                basis.n_modes
+            );
             assert!(
                 worst < bound,
                 "axis {axis}, modes {:?}: max error {worst:.3e}",
@@ -311,6 +325,13 @@ fn random_grid_converges_against_a_fine_grid_on_the_stack() {
     for (i, p) in r.responses.iter().enumerate() {
         let reference = grid::integrate(&fine, &psd[i]).sqrt();
         let err = (p.grms - reference).abs() / reference;
+        eprintln!(
+            "shaker-2sat random z {}: {} vs fine grid {reference} ({err:.2e}), {} vs {} points",
+            p.name,
+            p.grms,
+            r.frequency_points,
+            fine.len()
+        );
         assert!(
             err < 0.005,
             "{}: {} vs {reference}: {err:.2e}",
