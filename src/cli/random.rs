@@ -95,6 +95,16 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
                 &dir.join(format!("{name}.csv")),
                 r.curves.to_csv("input_g2_hz").as_bytes(),
             )?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}-interfaces.csv")),
+                r.curves
+                    .csv_of("input_g2_hz", &r.curves.interfaces)
+                    .as_bytes(),
+            )?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}-bars.csv")),
+                r.curves.csv_of("input_g2_hz", &r.curves.bars).as_bytes(),
+            )?;
             let svg = super::sine::plot(
                 &r.curves,
                 &format!(

@@ -157,6 +157,14 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
                 &dir.join(format!("{name}.csv")),
                 r.curves.to_csv("input_g").as_bytes(),
             )?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}-interfaces.csv")),
+                r.curves.csv_of("input_g", &r.curves.interfaces).as_bytes(),
+            )?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}-bars.csv")),
+                r.curves.csv_of("input_g", &r.curves.bars).as_bytes(),
+            )?;
             let svg = plot(
                 &r.curves,
                 &format!("Sine, axis {}: absolute acceleration", r.axis),

@@ -102,23 +102,32 @@ pub struct Curves {
     pub frequency_hz: Vec<f64>,
     /// The input level (g for sine, g²/Hz for random).
     pub input: Vec<f64>,
-    /// Named series on the same grid.
+    /// Response points on the same grid.
     pub series: Vec<(String, Vec<f64>)>,
+    /// Joint loads (force and moment components and resultants).
+    pub interfaces: Vec<(String, Vec<f64>)>,
+    /// Guide-bar stations (bending moment, normal stress).
+    pub bars: Vec<(String, Vec<f64>)>,
 }
 
 impl Curves {
-    /// CSV text: frequency, input, then one column per series.
+    /// CSV text of the response points: frequency, input, then one column per point.
     pub fn to_csv(&self, input_name: &str) -> String {
+        self.csv_of(input_name, &self.series)
+    }
+
+    /// CSV text of any group of series on this grid (frequency, input, then the series).
+    pub fn csv_of(&self, input_name: &str, series: &[(String, Vec<f64>)]) -> String {
         use std::fmt::Write as _;
         let mut s = String::from("frequency_hz,");
         s.push_str(input_name);
-        for (n, _) in &self.series {
+        for (n, _) in series {
             let _ = write!(s, ",\"{n}\"");
         }
         s.push('\n');
         for (k, f) in self.frequency_hz.iter().enumerate() {
             let _ = write!(s, "{f:.6e},{:.6e}", self.input[k]);
-            for (_, v) in &self.series {
+            for (_, v) in series {
                 let _ = write!(s, ",{:.6e}", v[k]);
             }
             s.push('\n');

@@ -168,7 +168,7 @@ pub fn evaluate(
     let mut curves = Curves {
         frequency_hz: f.to_vec(),
         input: input.clone(),
-        series: Vec::new(),
+        ..Default::default()
     };
     let mut responses = Vec::new();
     for p in &o.points {
@@ -204,6 +204,13 @@ pub fn evaluate(
         let tz = ms(r[2]).sqrt();
         let sh = (ms(r[0]) + ms(r[1])).sqrt();
         let mo = (ms(r[3]) + ms(r[4])).sqrt();
+        let c = &mut curves.interfaces;
+        c.push((format!("{} tension [N2/Hz]", i.name), psd(r[2])));
+        let (px, py) = (psd(r[0]), psd(r[1]));
+        c.push((
+            format!("{} shear [N2/Hz]", i.name),
+            px.iter().zip(&py).map(|(a, b)| a + b).collect(),
+        ));
         margin_list.extend(margins::interface(
             i,
             3.0 * (tz + mo * face(i)),
@@ -227,6 +234,11 @@ pub fn evaluate(
         let n = ms(r[0]).sqrt();
         let tq = ms(r[1]).sqrt();
         let mb = (ms(r[2]) + ms(r[3])).sqrt();
+        let (py, pz) = (psd(r[2]), psd(r[3]));
+        curves.bars.push((
+            format!("{} bending [(N m)2/Hz]", st.name),
+            py.iter().zip(&pz).map(|(a, b)| a + b).collect(),
+        ));
         let s = prep.margins.clone();
         let vy = margins::bar_von_mises(st, &s, s.yield_factor, 3.0 * n, 3.0 * mb, 3.0 * tq);
         let vu = margins::bar_von_mises(st, &s, s.ultimate_factor, 3.0 * n, 3.0 * mb, 3.0 * tq);

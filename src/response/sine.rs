@@ -160,7 +160,7 @@ pub fn evaluate(
     let mut curves = Curves {
         frequency_hz: f.to_vec(),
         input: input.clone(),
-        series: Vec::new(),
+        ..Default::default()
     };
     let mut peaks = Vec::new();
     for p in &o.points {
@@ -209,8 +209,10 @@ pub fn evaluate(
             max_moment_n_m: mmax,
             preload_n: i.preload_n,
         });
-        curves.series.push((format!("{} tension [N]", i.name), t));
-        curves.series.push((format!("{} shear [N]", i.name), s));
+        let c = &mut curves.interfaces;
+        c.push((format!("{} tension [N]", i.name), t));
+        c.push((format!("{} shear [N]", i.name), s));
+        c.push((format!("{} moment [N m]", i.name), m));
     }
     let mut stations = Vec::new();
     let mut bar_ms = Vec::new();
@@ -218,11 +220,15 @@ pub fn evaluate(
         let r = st.rows;
         let mut best = (0usize, 0.0f64, 0.0f64, 0.0f64);
         let (mut vy, mut vu) = (0.0f64, 0.0f64);
+        let mut bend_curve = Vec::with_capacity(f.len());
+        let mut stress_curve = Vec::with_capacity(f.len());
         for k in 0..f.len() {
             let n = amp(k, r[0]);
             let t = amp(k, r[1]);
             let mb = amp(k, r[2]).hypot(amp(k, r[3]));
             let sigma = n / st.area_m2 + mb / st.section_modulus_m3;
+            bend_curve.push(mb);
+            stress_curve.push(sigma);
             if sigma > best.3 {
                 best = (k, n, mb, sigma);
             }
@@ -257,6 +263,12 @@ pub fn evaluate(
             frequency_hz: f[best.0],
         });
         bar_ms.extend(margins::bar(st, &prep.margins, vy, vu, &case));
+        curves
+            .bars
+            .push((format!("{} bending [N m]", st.name), bend_curve));
+        curves
+            .bars
+            .push((format!("{} stress [Pa]", st.name), stress_curve));
     }
     ms.extend(margins::worst_per_item(bar_ms));
     Ok(SineAxis {
