@@ -346,3 +346,31 @@ fn random_grid_converges_against_a_fine_grid_on_the_stack() {
     );
     assert_eq!(GridSpec::RANDOM.halfwidth, 5.0, "the issue's ±5ζ band");
 }
+
+#[test]
+fn scene_response_collects_the_governing_margins() {
+    // The `qualify` entry point: both analyses on the scene's axes, margins gathered.
+    let scene = load("test-specs/shaker-2sat.toml");
+    let (model, sys) = satqual::pipeline::modal(&scene, None, None).unwrap();
+    let prep = Prepared::new(&scene, &model, &sys).unwrap();
+    let r = satqual::response::run_scene(&prep).unwrap();
+    assert_eq!(r.sine.len(), 3);
+    assert_eq!(r.random.len(), 3);
+    let g = r.governing_margins();
+    // 8 joints × (gapping, slip) + 4 bars × (yield, ultimate).
+    assert_eq!(g.len(), 8 * 2 + 4 * 2);
+    for m in &g {
+        let worst = r
+            .margins()
+            .filter(|x| x.name == m.name && x.kind == m.kind)
+            .map(|x| x.margin)
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(m.margin, worst);
+        assert_eq!(m.pass, m.margin > 0.0);
+        // Gapping: value = FF·FS_sep·P_ext, limit = P_nominal·0.9·0.95 with P_nominal 11.25 kN.
+        if m.kind == "gapping" {
+            assert!((m.limit - 11250.0 * 0.9 * 0.95).abs() < 1.0, "{}", m.limit);
+        }
+    }
+    assert_eq!(r.pass(), g.iter().all(|m| m.pass));
+}

@@ -91,6 +91,58 @@ impl<'a> Prepared<'a> {
     }
 }
 
+/// The response analyses a scene asks for (`[sine]`, `[random]`), each on its own axes, with
+/// the default options: what `qualify` runs. An analysis the scene does not ask for is skipped.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct SceneResponse {
+    pub sine: Vec<SineAxis>,
+    pub random: Vec<RandomAxis>,
+}
+
+impl SceneResponse {
+    /// Every margin of every analysis and axis.
+    pub fn margins(&self) -> impl Iterator<Item = &Margin> {
+        self.sine
+            .iter()
+            .flat_map(|a| a.margins.iter())
+            .chain(self.random.iter().flat_map(|a| a.margins.iter()))
+    }
+
+    /// The smallest margin for each checked item (name and kind) over all load cases.
+    pub fn governing_margins(&self) -> Vec<Margin> {
+        margins::worst_per_item(self.margins().cloned().collect())
+    }
+
+    /// True when every margin is positive.
+    pub fn pass(&self) -> bool {
+        self.margins().all(|m| m.pass)
+    }
+}
+
+/// Runs the scene's `[sine]` and `[random]` analyses on their axes.
+pub fn run_scene(prep: &Prepared) -> Result<SceneResponse, Error> {
+    let axes = |names: &[String]| -> Vec<usize> {
+        names
+            .iter()
+            .filter_map(|a| crate::spec::analysis::axis_index(a))
+            .collect()
+    };
+    let mut out = SceneResponse::default();
+    if let Some(s) = &prep.scene.file.sine {
+        for a in axes(&s.axes) {
+            out.sine
+                .push(sine::run(prep, s, a, &SineOptions::default())?);
+        }
+    }
+    if let Some(r) = &prep.scene.file.random {
+        for a in axes(&r.axes) {
+            out.random
+                .push(random::run(prep, r, a, &RandomOptions::default())?);
+        }
+    }
+    Ok(out)
+}
+
 /// Axis index to name.
 pub fn axis_name(a: usize) -> &'static str {
     ["x", "y", "z"][a.min(2)]
