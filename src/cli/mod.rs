@@ -8,11 +8,14 @@ use std::io::Write;
 
 mod bench;
 mod bench_fem;
+mod bench_response;
 mod bench_separation;
 mod expand;
 mod modal;
 mod qualify;
+mod random;
 mod separate;
+mod sine;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -35,6 +38,10 @@ pub enum Command {
     Separate(separate::Args),
     /// Run every analysis the scene asks for, gate the results, write the report.
     Qualify(qualify::Args),
+    /// Sine-sweep base-excitation response, joint loads and lock-integrity margins.
+    Sine(sine::Args),
+    /// Random-vibration base-excitation response (Grms, 3σ), loads and margins.
+    Random(random::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -52,6 +59,8 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Expand(a) => expand::run(a),
         Command::Separate(a) => separate::run(a),
         Command::Qualify(a) => qualify::run(a),
+        Command::Sine(a) => sine::run(a),
+        Command::Random(a) => random::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod plot;
 pub mod qualify;
+pub mod svg_plot;
 
 use crate::error::Error;
 use std::path::Path;

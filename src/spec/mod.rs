@@ -6,6 +6,7 @@
 //! dotted key path (`beam[2].orientation`), which [`Locator`] resolves to a line and column
 //! through a span-preserving `toml_edit` parse of the same text.
 
+pub mod analysis;
 pub mod model;
 pub mod qualify;
 pub mod separation;
@@ -61,6 +62,21 @@ pub struct SceneFile {
     /// The in-orbit release (issue 6): springs, schedule, contact; geometry from `[stack]`.
     #[serde(default)]
     pub separation: Option<separation::SeparationSpec>,
+    /// Modal damping of the response analyses (issue 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<analysis::DampingSpec>,
+    /// Sine-sweep base excitation (issue 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sine: Option<analysis::SineSpec>,
+    /// Random base excitation (issue 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub random: Option<analysis::RandomSpec>,
+    /// Named response points (issue 4).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub response: Vec<analysis::ResponsePoint>,
+    /// Lock-integrity margin factors (issue 4); defaults in `analysis::MarginsSpec`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margins: Option<analysis::MarginsSpec>,
 }
 
 /// A loaded and validated scene, with its source kept for error locations and provenance.
@@ -102,6 +118,7 @@ impl Scene {
             &file.test_log,
             &loc,
         )?;
+        analysis::validate(&file, &model, &loc)?;
         Ok(Scene {
             path: path.to_path_buf(),
             text: text.to_string(),
