@@ -156,6 +156,8 @@ pub struct Qualification {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub modal: Option<ModalSummary>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    pub response: Option<crate::response::SceneResponse>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub separation: Option<SeparationSummary>,
     pub paper_comparison: Vec<PaperComparison>,
     pub assumptions: Vec<String>,
@@ -192,10 +194,34 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
 
     let mut modal_summary = None;
     let mut solver = None;
-    if has_model && wants_modal {
+    let mut response_result = None;
+    let wants_response = f.sine.is_some() || f.random.is_some();
+    if has_model && (wants_modal || wants_response) {
         progress.stage("modal analysis");
-        let (_, sys) = modal(scene, None, None)?;
+        let (fe, sys) = modal(scene, None, None)?;
         ran.push("modal".to_string());
+        if wants_response {
+            progress.stage("sine and random response");
+            let prep = crate::response::Prepared::new(scene, &fe, &sys)?;
+            let resp = crate::response::run_scene(&prep)?;
+            if f.sine.is_some() {
+                ran.push("sine".to_string());
+            }
+            if f.random.is_some() {
+                ran.push("random".to_string());
+            }
+            for m in resp.governing_margins() {
+                gates.push(Verdict {
+                    name: format!("{}: {} ({})", m.kind, m.name, m.load_case),
+                    value: m.value,
+                    limit: m.limit,
+                    margin: m.margin,
+                    pass: m.pass,
+                    source: m.source.clone(),
+                });
+            }
+            response_result = Some(resp);
+        }
         let r = sys.result.clone();
         solver = Some(r.solver.clone());
         let (fx, fy, fz) = (first_mode(&r, 0), first_mode(&r, 1), first_mode(&r, 2));
@@ -268,6 +294,18 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
                 "the scene has no FE model".into()
             },
         });
+    }
+
+    for (present, name, section) in [
+        (f.sine.is_some(), "sine", "[sine]"),
+        (f.random.is_some(), "random", "[random]"),
+    ] {
+        if !present {
+            skipped.push(Skipped {
+                analysis: name.into(),
+                reason: format!("the scene has no {section} section"),
+            });
+        }
     }
 
     let mut sep_summary = None;
@@ -413,6 +451,13 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
         });
     }
 
+    if f.test_log.is_empty() {
+        skipped.push(Skipped {
+            analysis: "test data".into(),
+            reason: "the scene lists no [[test_log]]".into(),
+        });
+    }
+
     let assumptions = assumption_lines(&scene.text);
     let pass = gates.iter().all(|g| g.pass);
     Ok(Qualification {
@@ -423,6 +468,7 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
         ran,
         skipped,
         modal: modal_summary,
+        response: response_result,
         separation: sep_summary,
         paper_comparison: comparison,
         assumptions,

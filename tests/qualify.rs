@@ -51,7 +51,7 @@ fn modal_only_scene_skips_the_rest_and_says_so() {
         .iter()
         .map(|s| s["analysis"].as_str().unwrap().to_string())
         .collect();
-    for a in ["separation"] {
+    for a in ["sine", "random", "separation", "test data"] {
         assert!(
             skipped.iter().any(|s| s == a),
             "{a} not listed as skipped: {skipped:?}"

@@ -98,6 +98,100 @@ fn figures(q: &Qualification, files: &mut Files) -> Result<Vec<Figure>, Error> {
             )?,
         });
     }
+    if let Some(resp) = &q.response {
+        for (kind, axes_curves) in [
+            (
+                "sine",
+                resp.sine
+                    .iter()
+                    .map(|a| (&a.axis, &a.curves))
+                    .collect::<Vec<_>>(),
+            ),
+            (
+                "random",
+                resp.random
+                    .iter()
+                    .map(|a| (&a.axis, &a.curves))
+                    .collect::<Vec<_>>(),
+            ),
+        ] {
+            for (axis, c) in axes_curves {
+                let input_name = if kind == "sine" {
+                    "input_g"
+                } else {
+                    "input_g2_hz"
+                };
+                files.push((
+                    format!("curves/{kind}_{axis}_points.csv"),
+                    c.to_csv(input_name).into_bytes(),
+                ));
+                files.push((
+                    format!("curves/{kind}_{axis}_interfaces.csv"),
+                    c.csv_of(input_name, &c.interfaces).into_bytes(),
+                ));
+                files.push((
+                    format!("curves/{kind}_{axis}_bars.csv"),
+                    c.csv_of(input_name, &c.bars).into_bytes(),
+                ));
+                let input: Vec<(f64, f64)> = c
+                    .frequency_hz
+                    .iter()
+                    .copied()
+                    .zip(c.input.iter().copied())
+                    .collect();
+                let pts: Vec<Vec<(f64, f64)>> = c
+                    .series
+                    .iter()
+                    .map(|(_, v)| {
+                        c.frequency_hz
+                            .iter()
+                            .copied()
+                            .zip(v.iter().copied())
+                            .collect()
+                    })
+                    .collect();
+                let mut series = vec![Series {
+                    label: "input".into(),
+                    points: &input,
+                }];
+                for ((name, _), p) in c.series.iter().zip(&pts) {
+                    series.push(Series {
+                        label: name.clone(),
+                        points: p,
+                    });
+                }
+                let (title, ylab, cap) = if kind == "sine" {
+                    (
+                        format!("Sine response, {axis} axis"),
+                        "acceleration [g]",
+                        format!(
+                            "Sine sweep along {axis}: absolute acceleration of the response points against the input level"
+                        ),
+                    )
+                } else {
+                    (
+                        format!("Random response PSD, {axis} axis"),
+                        "PSD [g²/Hz]",
+                        format!(
+                            "Random vibration along {axis}: response PSDs with the input profile"
+                        ),
+                    )
+                };
+                figs.push(Figure {
+                    stem: format!("{kind}_{axis}"),
+                    caption: cap,
+                    svg: lines_svg(
+                        &title,
+                        "frequency [Hz]",
+                        ylab,
+                        &series,
+                        Scale::Log,
+                        Scale::Log,
+                    )?,
+                });
+            }
+        }
+    }
     if let Some(sep) = &q.separation
         && let Some(h) = &sep.result.history
     {
@@ -271,6 +365,44 @@ fn markdown(q: &Qualification, figs: &[Figure]) -> String {
         }
         if r.modes.len() > 30 {
             let _ = writeln!(s, "\n({} more modes in results.json)", r.modes.len() - 30);
+        }
+    }
+    if let Some(resp) = &q.response {
+        if !resp.sine.is_empty() {
+            let _ = writeln!(
+                s,
+                "\n## Sine response\n\n| axis | point | peak [g] | at [Hz] |\n|---|---|---:|---:|"
+            );
+            for a in &resp.sine {
+                for p in &a.peaks {
+                    let _ = writeln!(
+                        s,
+                        "| {} | {} | {:.3} | {:.2} |",
+                        a.axis, p.name, p.acceleration_g, p.frequency_hz
+                    );
+                }
+            }
+        }
+        if !resp.random.is_empty() {
+            let _ = writeln!(
+                s,
+                "\n## Random response\n\n| axis | input Grms | point | Grms | 3σ [g] | peak PSD [g²/Hz] | at [Hz] |\n|---|---:|---|---:|---:|---:|---:|"
+            );
+            for a in &resp.random {
+                for r in &a.responses {
+                    let _ = writeln!(
+                        s,
+                        "| {} | {:.2} | {} | {:.3} | {:.3} | {:.4} | {:.1} |",
+                        a.axis,
+                        a.input_grms,
+                        r.name,
+                        r.grms,
+                        r.three_sigma_g,
+                        r.peak_psd_g2_hz,
+                        r.peak_psd_hz
+                    );
+                }
+            }
         }
     }
     if !q.assumptions.is_empty() {
