@@ -236,3 +236,55 @@ fn report_renders_in_headless_chromium() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn reduced_preload_gaps_and_the_gate_says_so() {
+    // The 2-satellite shaker scene with its preload cut from 45 kN to 4.5 kN: the sine z
+    // joint tension exceeds the minimum preload, so a gapping gate must fail with a negative
+    // margin, the run exit 1, and the report still be written.
+    let d = tmp("gap");
+    let text = std::fs::read_to_string("test-specs/shaker-2sat.toml").unwrap();
+    assert!(text.contains("preload_total_n = 45000.0"));
+    let scene = d.join("low-preload.toml");
+    std::fs::write(
+        &scene,
+        text.replacen("preload_total_n = 45000.0", "preload_total_n = 4500.0", 1),
+    )
+    .unwrap();
+    let out = d.join("report");
+    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
+        .args([
+            "qualify",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("FAILED gapping: gapping interface"),
+        "{stdout}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let gap: Vec<&serde_json::Value> = v["gates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|g| g["name"].as_str().unwrap().starts_with("gapping") && g["pass"] == false)
+        .collect();
+    assert!(!gap.is_empty());
+    assert!(
+        gap.iter().all(|g| g["margin"].as_f64().unwrap() < 0.0
+            && g["source"].as_str().unwrap().contains("5020"))
+    );
+    assert!(out.join("report.html").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
