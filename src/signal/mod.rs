@@ -1,2 +1,16 @@
 //! Test-data processing: log ingest (CSV, UFF58), Welch PSD/CSD, FRF, peaks, sweep tracking,
-//! tolerance bands and pre/post signature comparison. Inputs are measured logs only.
+//! tolerance bands and pre/post signature comparison. Inputs are measured logs only; nothing
+//! here prints or exits.
+//!
+//! Pipeline stages, in the order the `psd`/`frf`/`signature` commands run them:
+//! 1. [`ingest`] / [`uff`]: a CSV log (streamed) or a UFF58 record -> channels, sampling rate.
+//! 2. [`welch`]: Welch PSD and CSD (scipy-exact definitions).
+//! 3. [`bands`]: Grms, band RMS, octave / third-octave levels, tolerance bands.
+//! 4. [`peaks`]: peaks with parabolic interpolation, resonances with half-power Q.
+//! 5. [`frf`]: H1, H2, coherence and resonance picking on |H1|.
+//! 6. [`sweep`]: sine-sweep tracking (amplitude and phase against drive frequency).
+//! 7. [`signature`]: pre/post test signature comparison.
+
+pub mod welch;
+
+pub use welch::{CrossPsd, Detrend, Psd, WelchOptions, WelchResult, WelchStream, Window, csd, welch, welch_multi};
