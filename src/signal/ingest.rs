@@ -1,0 +1,560 @@
+//! CSV log ingest, streamed: one row at a time goes to a caller's sink, so memory does not grow
+//! with the file. Input: a text CSV whose header names the channels, with a time column
+//! (`time`, `time_s`, `t`, ...) or a sampling rate given by the caller.
+//!
+//! The reader checks, and reports with file, line and column: binary content, empty files,
+//! header-only files, unnamed or duplicate columns, ragged rows, cells that are not finite
+//! numbers, a time column that does not increase, and one whose step departs from the sampling
+//! interval (jitter or gaps). With `resample`, such a log is linearly interpolated onto a
+//! uniform grid and the interpolation is reported instead of refused.
+//!
+//! Parsing uses the `csv` crate (quoting, CRLF) and `fast-float2` for the numbers.
+
+use crate::error::SignalError;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+/// Physical unit of a channel, as found in its name or given by the caller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Unit {
+    #[serde(rename = "g")]
+    G,
+    #[serde(rename = "m/s2")]
+    MPerS2,
+    /// Anything else (force, voltage, ...): values are kept as they are.
+    #[serde(rename = "as-is")]
+    AsIs,
+}
+
+impl Unit {
+    pub fn parse(s: &str) -> Result<Unit, SignalError> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "g" => Ok(Unit::G),
+            "m/s2" | "m/s^2" | "m/s²" | "ms2" | "m_s2" => Ok(Unit::MPerS2),
+            "as-is" | "raw" | "none" => Ok(Unit::AsIs),
+            _ => Err(SignalError::BadParameter {
+                name: "units",
+                value: s.to_string(),
+                reason: "expected g, m/s2 or as-is".into(),
+            }),
+        }
+    }
+
+    /// The unit a channel name states, e.g. `accel_g`, `a [m/s2]`, `acc_m_s2`.
+    pub fn from_name(name: &str) -> Option<Unit> {
+        let n = name.trim().to_ascii_lowercase();
+        if n.ends_with("_g") || n.ends_with("[g]") || n.ends_with("(g)") || n == "g" {
+            Some(Unit::G)
+        } else if ["m/s2", "m/s^2", "m/s²", "_m_s2", "_ms2", "mps2"].iter().any(|s| n.ends_with(s) || n.ends_with(&format!("{s}]")) || n.ends_with(&format!("{s})"))) {
+            Some(Unit::MPerS2)
+        } else {
+            None
+        }
+    }
+
+    /// Factor from this unit to the unit the analysis reports (g for accelerations).
+    pub fn to_report_factor(self) -> f64 {
+        match self {
+            Unit::MPerS2 => 1.0 / crate::units::G,
+            Unit::G | Unit::AsIs => 1.0,
+        }
+    }
+
+    /// Unit of the values after conversion.
+    pub fn reported(self) -> &'static str {
+        match self {
+            Unit::G | Unit::MPerS2 => "g",
+            Unit::AsIs => "as-is",
+        }
+    }
+}
+
+/// Where a channel's unit came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UnitSource {
+    Name,
+    Option,
+    Default,
+}
+
+/// How to read a log.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IngestOptions {
+    /// Channels to keep, in this order; `None` keeps every non-time column.
+    pub channels: Option<Vec<String>>,
+    /// Sampling rate, Hz. Required without a time column; with one, it must agree.
+    pub fs: Option<f64>,
+    /// Unit for every channel whose name does not state one.
+    pub default_unit: Option<Unit>,
+    /// Per-channel units, overriding the name.
+    pub channel_units: Vec<(String, Unit)>,
+    /// Interpolate a non-uniform time column onto a uniform grid instead of failing.
+    pub resample: bool,
+    /// Allowed departure of one time step from the sampling interval, as a fraction of it.
+    pub jitter_tolerance: f64,
+}
+
+impl Default for IngestOptions {
+    fn default() -> Self {
+        IngestOptions {
+            channels: None,
+            fs: None,
+            default_unit: None,
+            channel_units: Vec::new(),
+            resample: false,
+            jitter_tolerance: 0.01,
+        }
+    }
+}
+
+/// One channel of a log.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ChannelInfo {
+    pub name: String,
+    /// Unit in the file.
+    pub unit: Unit,
+    pub unit_source: UnitSource,
+    /// Index of the column in the file (0-based).
+    pub column: usize,
+}
+
+/// What resampling did to a non-uniform log.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ResampleReport {
+    pub uniform_dt_s: f64,
+    /// Rows whose step departed from the interval by more than the tolerance.
+    pub irregular_rows: u64,
+    /// First such row (line number in the file).
+    pub first_irregular_line: u64,
+    pub largest_step_s: f64,
+    pub input_rows: u64,
+    pub output_samples: u64,
+}
+
+/// Description of a log once read.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LogInfo {
+    pub file: PathBuf,
+    pub channels: Vec<ChannelInfo>,
+    pub time_column: Option<String>,
+    pub fs_hz: f64,
+    pub samples: u64,
+    pub resampled: Option<ResampleReport>,
+}
+
+/// A log held in memory: `data[c]` is channel `c`, already converted to its reported unit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Log {
+    pub info: LogInfo,
+    pub data: Vec<Vec<f64>>,
+}
+
+impl Log {
+    pub fn channel(&self, name: &str) -> Result<&[f64], SignalError> {
+        self.info
+            .channels
+            .iter()
+            .position(|c| c.name == name)
+            .map(|i| self.data[i].as_slice())
+            .ok_or_else(|| SignalError::NoSuchChannel {
+                file: self.info.file.clone(),
+                name: name.to_string(),
+                available: self.info.channels.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", "),
+            })
+    }
+}
+
+/// Whether a header names a time column.
+pub fn is_time_column(name: &str) -> bool {
+    let n = name.trim().to_ascii_lowercase();
+    let base = n.split(['[', '(', ' ']).next().unwrap_or("");
+    matches!(base, "t" | "t_s" | "time" | "time_s" | "times" | "timestamp" | "x_value" | "seconds" | "sec")
+}
+
+/// Reads the first bytes to refuse binary files before the CSV parser sees them.
+fn sniff(path: &Path) -> Result<(), SignalError> {
+    let mut f = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+    let mut buf = vec![0u8; 8192];
+    let mut got = 0;
+    while got < buf.len() {
+        let n = f.read(&mut buf[got..]).map_err(|e| io_error(path, e))?;
+        if n == 0 {
+            break;
+        }
+        got += n;
+    }
+    buf.truncate(got);
+    if buf.iter().all(|b| b.is_ascii_whitespace()) {
+        return Err(SignalError::EmptyFile { file: path.to_path_buf() });
+    }
+    if let Some(offset) = buf.iter().position(|&b| b == 0 || (b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t'))) {
+        return Err(SignalError::BinaryFile { file: path.to_path_buf(), offset, byte: buf[offset] });
+    }
+    if let Err(e) = std::str::from_utf8(&buf) {
+        // A multi-byte character cut by the 8 KiB sniff window is not binary content.
+        if e.error_len().is_some() {
+            let offset = e.valid_up_to();
+            return Err(SignalError::BinaryFile { file: path.to_path_buf(), offset, byte: buf[offset] });
+        }
+    }
+    Ok(())
+}
+
+fn io_error(path: &Path, e: std::io::Error) -> SignalError {
+    SignalError::Unsupported { file: path.to_path_buf(), message: format!("cannot read: {e}") }
+}
+
+fn parse_cell(bytes: &[u8]) -> Option<f64> {
+    let t = bytes.trim_ascii();
+    let v: f64 = fast_float2::parse(t).ok()?;
+    v.is_finite().then_some(v)
+}
+
+fn bad_cell(file: &Path, line: u64, column: &str, bytes: &[u8]) -> SignalError {
+    let text = String::from_utf8_lossy(bytes.trim_ascii()).into_owned();
+    let lower = text.to_ascii_lowercase();
+    let what = if text.is_empty() {
+        "empty cell"
+    } else if lower.contains("nan") {
+        "not a number"
+    } else if lower.contains("inf") || fast_float2::parse::<f64, _>(text.as_bytes()).is_ok() {
+        "non-finite value"
+    } else {
+        "cannot parse number"
+    };
+    SignalError::BadCell { file: file.to_path_buf(), line, column: column.to_string(), text, what }
+}
+
+/// Streams a CSV log: calls `sink` with one row of the selected channels (converted to their
+/// reported unit) per uniform sample, and returns the log's description.
+pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64])) -> Result<LogInfo, SignalError> {
+    sniff(path)?;
+    let file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .buffer_capacity(1 << 20)
+        .from_reader(std::io::BufReader::with_capacity(1 << 20, file));
+    let fpath = path.to_path_buf();
+    let mut record = csv::ByteRecord::new();
+    // Rows are read as bytes and flexible, so what remains here is I/O failure.
+    let csv_err = |e: csv::Error| SignalError::Unsupported { file: fpath.clone(), message: e.to_string() };
+    if !rdr.read_byte_record(&mut record).map_err(csv_err)? {
+        return Err(SignalError::EmptyFile { file: fpath.clone() });
+    }
+    let header: Vec<String> = record
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let s = String::from_utf8_lossy(b).trim().to_string();
+            if i == 0 { s.trim_start_matches('\u{feff}').to_string() } else { s }
+        })
+        .collect();
+    for (i, h) in header.iter().enumerate() {
+        if h.is_empty() {
+            return Err(SignalError::BadHeader {
+                file: fpath.clone(),
+                message: format!("column {} has no channel name", i + 1),
+            });
+        }
+        if header[..i].contains(h) {
+            return Err(SignalError::BadHeader { file: fpath.clone(), message: format!("channel name `{h}` appears twice") });
+        }
+    }
+    let time_col = header.iter().position(|h| is_time_column(h));
+    let available: Vec<&String> =
+        header.iter().enumerate().filter(|(i, _)| Some(*i) != time_col).map(|(_, h)| h).collect();
+    let selected: Vec<usize> = match &opts.channels {
+        Some(list) => {
+            let mut v = Vec::new();
+            for name in list {
+                let i = header.iter().position(|h| h == name).filter(|i| Some(*i) != time_col).ok_or_else(|| {
+                    SignalError::NoSuchChannel {
+                        file: fpath.clone(),
+                        name: name.clone(),
+                        available: available.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", "),
+                    }
+                })?;
+                v.push(i);
+            }
+            v
+        }
+        None => (0..header.len()).filter(|i| Some(*i) != time_col).collect(),
+    };
+    if selected.is_empty() {
+        return Err(SignalError::BadHeader {
+            file: fpath.clone(),
+            message: format!(
+                "no data channel: the only column{} `{}` {}",
+                if header.len() > 1 { "s" } else { "" },
+                header.join(","),
+                if time_col.is_some() { "is a time column" } else { "holds no channel" }
+            ),
+        });
+    }
+    if time_col.is_none() && opts.fs.is_none() {
+        return Err(SignalError::NoSamplingRate { file: fpath.clone() });
+    }
+    if let Some(fs) = opts.fs
+        && !(fs.is_finite() && fs > 0.0)
+    {
+        return Err(SignalError::BadParameter { name: "fs", value: fs.to_string(), reason: "must be positive".into() });
+    }
+    for (name, _) in &opts.channel_units {
+        if !header.contains(name) {
+            return Err(SignalError::NoSuchChannel {
+                file: fpath.clone(),
+                name: name.clone(),
+                available: available.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", "),
+            });
+        }
+    }
+    let channels: Vec<ChannelInfo> = selected
+        .iter()
+        .map(|&i| {
+            let name = header[i].clone();
+            let (unit, unit_source) = if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
+                (*u, UnitSource::Option)
+            } else if let Some(u) = Unit::from_name(&name) {
+                (u, UnitSource::Name)
+            } else if let Some(u) = opts.default_unit {
+                (u, UnitSource::Option)
+            } else {
+                (Unit::AsIs, UnitSource::Default)
+            };
+            ChannelInfo { name, unit, unit_source, column: i }
+        })
+        .collect();
+    let factors: Vec<f64> = channels.iter().map(|c| c.unit.to_report_factor()).collect();
+
+    let ncols = header.len();
+    let mut row = vec![0.0; selected.len()];
+    let mut rows: u64 = 0;
+    let mut timing = Timing::new(opts, fpath.clone());
+    while rdr.read_byte_record(&mut record).map_err(csv_err)? {
+        let line = record.position().map_or(rows + 2, |p| p.line());
+        if record.len() != ncols {
+            // A lone empty field is a blank line with whitespace; skip it like a blank line.
+            if record.len() == 1 && record.get(0).is_some_and(|b| b.trim_ascii().is_empty()) {
+                continue;
+            }
+            return Err(SignalError::RaggedRow { file: fpath.clone(), line, expected: ncols, found: record.len() });
+        }
+        for (k, &c) in selected.iter().enumerate() {
+            let cell = record.get(c).unwrap_or_default();
+            row[k] = parse_cell(cell).ok_or_else(|| bad_cell(&fpath, line, &header[c], cell))? * factors[k];
+        }
+        rows += 1;
+        match time_col {
+            Some(tc) => {
+                let cell = record.get(tc).unwrap_or_default();
+                let t = parse_cell(cell).ok_or_else(|| bad_cell(&fpath, line, &header[tc], cell))?;
+                timing.push(t, line, &row, &mut sink)?;
+            }
+            None => sink(&row),
+        }
+    }
+    if rows == 0 {
+        return Err(SignalError::HeaderOnly { file: fpath.clone() });
+    }
+    let (fs_hz, samples, resampled) = match time_col {
+        Some(_) => timing.finish(&mut sink)?,
+        None => (opts.fs.unwrap_or(1.0), rows, None),
+    };
+    Ok(LogInfo {
+        file: fpath,
+        channels,
+        time_column: time_col.map(|i| header[i].clone()),
+        fs_hz,
+        samples,
+        resampled,
+    })
+}
+
+/// Rows kept before the sampling interval is fixed: the median of their steps is robust to one
+/// odd step at the start of the log.
+const PRIME_ROWS: usize = 33;
+
+/// Time-column checks and, with `resample`, streaming linear interpolation onto a uniform grid.
+struct Timing {
+    file: PathBuf,
+    resample: bool,
+    tol: f64,
+    fs_option: Option<f64>,
+    primed: Vec<(f64, u64, Vec<f64>)>,
+    dt: f64,
+    t0: f64,
+    prev: Option<f64>,
+    prev_row: Vec<f64>,
+    rows: u64,
+    emitted: u64,
+    irregular: u64,
+    first_irregular: u64,
+    largest: f64,
+    last_t: f64,
+    out: Vec<f64>,
+}
+
+impl Timing {
+    fn new(opts: &IngestOptions, file: PathBuf) -> Timing {
+        Timing {
+            file,
+            resample: opts.resample,
+            tol: opts.jitter_tolerance,
+            fs_option: opts.fs,
+            primed: Vec::new(),
+            dt: 0.0,
+            t0: 0.0,
+            prev: None,
+            prev_row: Vec::new(),
+            rows: 0,
+            emitted: 0,
+            irregular: 0,
+            first_irregular: 0,
+            largest: 0.0,
+            last_t: 0.0,
+            out: Vec::new(),
+        }
+    }
+
+    fn push(&mut self, t: f64, line: u64, row: &[f64], sink: &mut impl FnMut(&[f64])) -> Result<(), SignalError> {
+        if let Some(pt) = self.primed.last().map(|p| p.0).or(self.prev)
+            && t <= pt
+        {
+            return Err(SignalError::NonMonotonicTime { file: self.file.clone(), line, time: t, previous: pt });
+        }
+        self.rows += 1;
+        self.last_t = t;
+        if self.dt == 0.0 {
+            self.primed.push((t, line, row.to_vec()));
+            if self.primed.len() == PRIME_ROWS {
+                self.start(sink)?;
+            }
+            return Ok(());
+        }
+        self.accept(t, line, row, sink)
+    }
+
+    fn start(&mut self, sink: &mut impl FnMut(&[f64])) -> Result<(), SignalError> {
+        let primed = std::mem::take(&mut self.primed);
+        let mut steps: Vec<f64> = primed.windows(2).map(|w| w[1].0 - w[0].0).collect();
+        steps.sort_by(|a, b| a.total_cmp(b));
+        self.dt = match self.fs_option {
+            Some(fs) => 1.0 / fs,
+            None => steps.get(steps.len() / 2).copied().unwrap_or(1.0),
+        };
+        self.t0 = primed.first().map_or(0.0, |p| p.0);
+        for (t, line, row) in primed {
+            self.accept(t, line, &row, sink)?;
+        }
+        Ok(())
+    }
+
+    fn accept(&mut self, t: f64, line: u64, row: &[f64], sink: &mut impl FnMut(&[f64])) -> Result<(), SignalError> {
+        let Some(pt) = self.prev else {
+            sink(row);
+            self.emitted = 1;
+            self.prev = Some(t);
+            self.prev_row.clear();
+            self.prev_row.extend_from_slice(row);
+            return Ok(());
+        };
+        let step = t - pt;
+        let off = (step - self.dt).abs() > self.tol * self.dt;
+        if off {
+            if !self.resample {
+                return Err(SignalError::NonUniformTime {
+                    file: self.file.clone(),
+                    line,
+                    dt: step,
+                    expected_dt: self.dt,
+                    tolerance_pct: self.tol * 100.0,
+                });
+            }
+            if self.irregular == 0 {
+                self.first_irregular = line;
+            }
+            self.irregular += 1;
+        }
+        self.largest = self.largest.max(step);
+        if self.resample {
+            // Emit every grid time in (pt, t] by linear interpolation between the two rows.
+            loop {
+                let tg = self.t0 + self.emitted as f64 * self.dt;
+                if tg > t + 1e-9 * self.dt {
+                    break;
+                }
+                let a = ((tg - pt) / step).clamp(0.0, 1.0);
+                self.out.clear();
+                self.out.extend(self.prev_row.iter().zip(row).map(|(p, v)| p + a * (v - p)));
+                sink(&self.out);
+                self.emitted += 1;
+            }
+        } else {
+            sink(row);
+            self.emitted += 1;
+        }
+        self.prev = Some(t);
+        self.prev_row.clear();
+        self.prev_row.extend_from_slice(row);
+        Ok(())
+    }
+
+    fn finish(mut self, sink: &mut impl FnMut(&[f64])) -> Result<(f64, u64, Option<ResampleReport>), SignalError> {
+        if self.dt == 0.0 {
+            if self.primed.len() < 2 && self.fs_option.is_none() {
+                return Err(SignalError::NoSamplingRate { file: self.file.clone() });
+            }
+            self.start(sink)?;
+        }
+        let fs = if self.resample && self.irregular > 0 {
+            1.0 / self.dt
+        } else if let Some(fs) = self.fs_option {
+            // The caller's rate wins, but it must describe the same log.
+            if self.rows > 1 {
+                let from_time = (self.rows - 1) as f64 / (self.last_t - self.t0);
+                if (from_time - fs).abs() > self.tol * fs {
+                    return Err(SignalError::BadParameter {
+                        name: "fs",
+                        value: fs.to_string(),
+                        reason: format!(
+                            "the time column of {} gives {from_time:.6} Hz",
+                            self.file.display()
+                        ),
+                    });
+                }
+            }
+            fs
+        } else {
+            // The span of a uniform log fixes the rate better than one rounded step.
+            (self.rows - 1) as f64 / (self.last_t - self.t0)
+        };
+        let report = (self.resample && self.irregular > 0).then(|| ResampleReport {
+            uniform_dt_s: self.dt,
+            irregular_rows: self.irregular,
+            first_irregular_line: self.first_irregular,
+            largest_step_s: self.largest,
+            input_rows: self.rows,
+            output_samples: self.emitted,
+        });
+        Ok((fs, self.emitted, report))
+    }
+}
+
+/// Reads a whole CSV log into memory (for FRF, sweep and signature work on short records).
+pub fn read_csv(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
+    let mut data: Vec<Vec<f64>> = Vec::new();
+    let info = stream_csv(path, opts, |row| {
+        if data.is_empty() {
+            data = vec![Vec::new(); row.len()];
+        }
+        for (d, v) in data.iter_mut().zip(row) {
+            d.push(*v);
+        }
+    })?;
+    if data.is_empty() {
+        data = vec![Vec::new(); info.channels.len()];
+    }
+    Ok(Log { info, data })
+}
