@@ -16,6 +16,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     match args.what.as_str() {
+        "psd" => super::bench_psd::run(&args.out),
         other => Err(Error::Other(format!("unknown benchmark `{other}`"))),
     }
 }

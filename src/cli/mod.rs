@@ -7,7 +7,11 @@ use satqual::Error;
 use std::io::Write;
 
 mod bench;
+mod bench_psd;
+mod frf;
 mod modal;
+mod psd;
+mod signature;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -24,6 +28,12 @@ pub struct Cli {
 pub enum Command {
     /// Natural frequencies, effective masses and (with static loads) the buckling factor.
     Modal(modal::Args),
+    /// Welch PSD of a log (CSV or UFF58): Grms, RMS, peaks, tolerance bands against a profile.
+    Psd(psd::Args),
+    /// Frequency response H1/H2 and coherence between two channels, with resonances and Q.
+    Frf(frf::Args),
+    /// Compare the resonances of signatures taken before and after a test.
+    Signature(signature::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -39,6 +49,9 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
     match cli.command {
         Command::Modal(a) => modal::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Psd(a) => psd::run(a),
+        Command::Frf(a) => frf::run(a),
+        Command::Signature(a) => signature::run(a),
     }
 }
 

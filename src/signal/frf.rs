@@ -123,3 +123,34 @@ pub fn resonances(freqs: &[f64], h: &[Complex64], coherence: &[f64], opts: &Peak
         })
         .collect()
 }
+
+/// FRF between channels `input` and `output` averaged over the records of several CSV logs
+/// (each log read with `ingest`; all must share one sampling rate within 1e-6).
+pub fn frf_of_files(
+    paths: &[std::path::PathBuf],
+    input: &str,
+    output: &str,
+    ingest: &super::ingest::IngestOptions,
+    opts: &WelchOptions,
+) -> Result<Frf, SignalError> {
+    let mut ing = ingest.clone();
+    ing.channels = Some(vec![input.to_string(), output.to_string()]);
+    let logs: Vec<super::ingest::Log> =
+        paths.iter().map(|p| super::ingest::read_csv(p, &ing)).collect::<Result<_, _>>()?;
+    let fs = logs.first().map(|l| l.info.fs_hz).ok_or_else(|| SignalError::Invalid("no log given".into()))?;
+    for l in &logs {
+        if (l.info.fs_hz - fs).abs() > 1e-6 * fs {
+            return Err(SignalError::Unsupported {
+                file: l.info.file.clone(),
+                message: format!("sampling rate {} Hz differs from {} Hz of the first log", l.info.fs_hz, fs),
+            });
+        }
+    }
+    let records: Vec<(&[f64], &[f64])> = logs.iter().map(|l| (l.data[0].as_slice(), l.data[1].as_slice())).collect();
+    frf(&records, fs, opts).map_err(|e| match e {
+        SignalError::SegmentTooLong { nperseg, len, .. } => {
+            SignalError::SegmentTooLong { nperseg, len, channel: format!("{input} of {}", paths[0].display()) }
+        }
+        o => o,
+    })
+}

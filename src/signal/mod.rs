@@ -21,7 +21,11 @@ pub mod peaks;
 pub mod uff;
 
 pub use bands::{Band, ToleranceReport, ToleranceSpec, ToleranceStatus, band_rms, octave_bands, read_profile, rms_of, tolerance_bands};
-pub use frf::{Frf, Resonance, frf, resonances};
+pub use frf::{Frf, Resonance, frf, frf_of_files, resonances};
 pub use ingest::{IngestOptions, Log, LogInfo, Unit, read_csv, stream_csv};
 pub use peaks::{Peak, PeakOptions, find_peaks};
 pub use uff::{UffRecord, read_uff58};
+pub mod logpsd;
+pub use logpsd::{ChannelPsd, LogPsd, PsdSource, psd_of_file};
+pub mod signature;
+pub use signature::{ModeComparison, SignatureCriteria, SignatureReport, compare_signatures};
