@@ -29,3 +29,5 @@ pub mod logpsd;
 pub use logpsd::{ChannelPsd, LogPsd, PsdSource, psd_of_file};
 pub mod signature;
 pub use signature::{ModeComparison, SignatureCriteria, SignatureReport, compare_signatures};
+pub mod sweep;
+pub use sweep::{SweepOptions, SweepTrack, sweep_resonance, track_sweep};
