@@ -194,3 +194,35 @@ fn uff_bad_inputs_are_errors() {
     let (code, _, err) = cli(&["psd", p.to_str().unwrap()], None);
     assert!(code == 2 && err.contains("58b"), "{err}");
 }
+
+#[test]
+fn errors_deep_in_a_multi_block_file_name_the_right_line() {
+    // 300 000 rows (~9 MB, more than two 4 MiB read blocks, each cut into parallel pieces).
+    let mut s = uniform_csv(300_000, &["a"]);
+    let lines: Vec<&str> = s.lines().collect();
+    let target = 250_001; // file line 250 002 (header is line 1)
+    let mut parts: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    let t = parts[target].split(',').next().unwrap().to_string();
+    parts[target] = format!("{t},nan");
+    s = parts.join("\n");
+    let p = write("deep.csv", s.as_bytes());
+    let e = read_csv(&p, &IngestOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("line 250002") && e.contains("column `a`"), "{e}");
+    parts[target] = format!("{t},0.5");
+    parts.insert(100_000, String::new());
+    parts.insert(100_000, " ".into());
+    let p = write("deep_ok.csv", parts.join("\r\n").as_bytes());
+    let log = read_csv(&p, &IngestOptions::default()).unwrap();
+    assert_eq!(log.info.samples, 300_000, "blank lines are skipped, CRLF accepted");
+    assert_eq!(log.data[0][target - 1], 0.5);
+}
+
+#[test]
+fn quoted_cells_are_read_through_the_csv_parser() {
+    let p = write("quoted.csv", b"\"time_s\",\"a\"\n0,\"1.5\"\n0.001,2\n0.002,\"x\"\n");
+    let e = read_csv(&p, &IngestOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("line 4") && e.contains("column `a`") && e.contains("`x`"), "{e}");
+    let p = write("quoted_ok.csv", b"\"time_s\",\"a\"\n0,\"1.5\"\n0.001,2\n0.002,\" 3 \"\n");
+    let log = read_csv(&p, &IngestOptions::default()).unwrap();
+    assert_eq!(log.data[0], vec![1.5, 2.0, 3.0]);
+}

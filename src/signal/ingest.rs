@@ -231,16 +231,14 @@ fn bad_cell(file: &Path, line: u64, column: &str, bytes: &[u8]) -> SignalError {
 pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64])) -> Result<LogInfo, SignalError> {
     sniff(path)?;
     let file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
-    let mut rdr = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .buffer_capacity(1 << 20)
-        .from_reader(std::io::BufReader::with_capacity(1 << 20, file));
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
     let fpath = path.to_path_buf();
+    // The header line goes through the csv crate (quoted names); rows go through `Rows`.
+    let mut header_line = Vec::new();
+    std::io::BufRead::read_until(&mut reader, b'\n', &mut header_line).map_err(|e| io_error(path, e))?;
     let mut record = csv::ByteRecord::new();
-    // Rows are read as bytes and flexible, so what remains here is I/O failure.
-    let csv_err = |e: csv::Error| SignalError::Unsupported { file: fpath.clone(), message: e.to_string() };
-    if !rdr.read_byte_record(&mut record).map_err(csv_err)? {
+    let mut hr = csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(&header_line[..]);
+    if !hr.read_byte_record(&mut record).map_err(|e| SignalError::BadHeader { file: fpath.clone(), message: e.to_string() })? {
         return Err(SignalError::EmptyFile { file: fpath.clone() });
     }
     let header: Vec<String> = record
@@ -329,32 +327,30 @@ pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64]
     let factors: Vec<f64> = channels.iter().map(|c| c.unit.to_report_factor()).collect();
 
     let ncols = header.len();
-    let mut row = vec![0.0; selected.len()];
+    let mut slots: Vec<Option<(usize, f64)>> = vec![None; ncols];
+    let off = usize::from(time_col.is_some());
+    if let Some(tc) = time_col {
+        slots[tc] = Some((0, 1.0));
+    }
+    for (k, &c) in selected.iter().enumerate() {
+        slots[c] = Some((off + k, factors[k]));
+    }
+    let layout = RowLayout { file: fpath.clone(), header: header.clone(), slots, width: off + selected.len() };
     let mut rows: u64 = 0;
     let mut timing = Timing::new(opts, fpath.clone());
-    while rdr.read_byte_record(&mut record).map_err(csv_err)? {
-        let line = record.position().map_or(rows + 2, |p| p.line());
-        if record.len() != ncols {
-            // A lone empty field is a blank line with whitespace; skip it like a blank line.
-            if record.len() == 1 && record.get(0).is_some_and(|b| b.trim_ascii().is_empty()) {
-                continue;
+    let mut feed = |vals: &[f64], lines: &[u64]| -> Result<(), SignalError> {
+        let w = layout.width;
+        for (row, &line) in vals.chunks_exact(w).zip(lines) {
+            rows += 1;
+            if time_col.is_some() {
+                timing.push(row[0], line, &row[1..], &mut sink)?;
+            } else {
+                sink(row);
             }
-            return Err(SignalError::RaggedRow { file: fpath.clone(), line, expected: ncols, found: record.len() });
         }
-        for (k, &c) in selected.iter().enumerate() {
-            let cell = record.get(c).unwrap_or_default();
-            row[k] = parse_cell(cell).ok_or_else(|| bad_cell(&fpath, line, &header[c], cell))? * factors[k];
-        }
-        rows += 1;
-        match time_col {
-            Some(tc) => {
-                let cell = record.get(tc).unwrap_or_default();
-                let t = parse_cell(cell).ok_or_else(|| bad_cell(&fpath, line, &header[tc], cell))?;
-                timing.push(t, line, &row, &mut sink)?;
-            }
-            None => sink(&row),
-        }
-    }
+        Ok(())
+    };
+    read_rows(&mut reader, &layout, &mut feed)?;
     if rows == 0 {
         return Err(SignalError::HeaderOnly { file: fpath.clone() });
     }
@@ -370,6 +366,199 @@ pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64]
         samples,
         resampled,
     })
+}
+
+/// Where each needed column of a row goes: `slots[column] = (index in the row, unit factor)`;
+/// the time (if any) is index 0.
+struct RowLayout {
+    file: PathBuf,
+    header: Vec<String>,
+    slots: Vec<Option<(usize, f64)>>,
+    width: usize,
+}
+
+/// Rows parsed from one chunk of the file: values (`width` per row), line numbers, and the
+/// error that stopped the chunk, if any (rows before it are kept, so errors come out in file
+/// order exactly as a sequential reader would give them).
+#[derive(Default)]
+struct Parsed {
+    vals: Vec<f64>,
+    lines: Vec<u64>,
+    err: Option<SignalError>,
+}
+
+/// Parses one line (no newline) into `out`; `Ok(false)` for a blank line.
+fn parse_line(line: &[u8], line_no: u64, l: &RowLayout, out: &mut Vec<f64>) -> Result<bool, SignalError> {
+    let line = line.strip_suffix(b"\r").unwrap_or(line);
+    if line.trim_ascii().is_empty() {
+        return Ok(false);
+    }
+    let found = line.iter().filter(|&&b| b == b',').count() + 1;
+    if found != l.slots.len() {
+        return Err(SignalError::RaggedRow { file: l.file.clone(), line: line_no, expected: l.slots.len(), found });
+    }
+    let base = out.len();
+    out.resize(base + l.width, 0.0);
+    for (c, cell) in line.split(|&b| b == b',').enumerate() {
+        if let Some((k, factor)) = l.slots[c] {
+            out[base + k] = parse_cell(cell).ok_or_else(|| bad_cell(&l.file, line_no, &l.header[c], cell))? * factor;
+        }
+    }
+    Ok(true)
+}
+
+/// Parses the lines of `chunk`, the first being line `first_line` of the file.
+fn parse_chunk(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
+    let mut p = Parsed { vals: Vec::with_capacity(chunk.len() / 8), lines: Vec::with_capacity(chunk.len() / 24), err: None };
+    for (i, line) in chunk.split(|&b| b == b'\n').enumerate() {
+        let n = first_line + i as u64;
+        match parse_line(line, n, l, &mut p.vals) {
+            Ok(true) => p.lines.push(n),
+            Ok(false) => {}
+            Err(e) => {
+                p.vals.truncate(p.lines.len() * l.width);
+                p.err = Some(e);
+                break;
+            }
+        }
+    }
+    p
+}
+
+/// A quoted block goes through the csv crate (quotes may hide commas); plain blocks, the
+/// common case for numeric logs, are split on commas directly.
+fn parse_quoted(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
+    let mut p = Parsed::default();
+    let mut rdr = csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(chunk);
+    let mut rec = csv::ByteRecord::new();
+    loop {
+        match rdr.read_byte_record(&mut rec) {
+            Ok(false) => break,
+            Ok(true) => {}
+            Err(e) => {
+                p.err = Some(SignalError::Unsupported { file: l.file.clone(), message: e.to_string() });
+                break;
+            }
+        }
+        let n = first_line + rec.position().map_or(1, |q| q.line()) - 1;
+        if rec.len() == 1 && rec.get(0).is_some_and(|b| b.trim_ascii().is_empty()) {
+            continue;
+        }
+        if rec.len() != l.slots.len() {
+            p.err = Some(SignalError::RaggedRow { file: l.file.clone(), line: n, expected: l.slots.len(), found: rec.len() });
+            break;
+        }
+        let base = p.vals.len();
+        p.vals.resize(base + l.width, 0.0);
+        for (c, cell) in rec.iter().enumerate() {
+            if let Some((k, factor)) = l.slots[c] {
+                match parse_cell(cell) {
+                    Some(v) => p.vals[base + k] = v * factor,
+                    None => {
+                        p.vals.truncate(base);
+                        p.err = Some(bad_cell(&l.file, n, &l.header[c], cell));
+                        return p;
+                    }
+                }
+            }
+        }
+        p.lines.push(n);
+    }
+    p
+}
+
+/// Bytes read per block: the memory bound of the reader (two blocks at most are alive).
+const BLOCK_BYTES: usize = 4 << 20;
+/// A line longer than this is not a log row (binary junk past the sniffed head).
+const MAX_LINE_BYTES: usize = 64 << 20;
+
+/// Reads the rows after the header in blocks cut at newlines, parses each block's pieces in
+/// parallel (rayon), and hands the rows to `feed` in file order.
+fn read_rows(
+    reader: &mut impl Read,
+    l: &RowLayout,
+    feed: &mut impl FnMut(&[f64], &[u64]) -> Result<(), SignalError>,
+) -> Result<(), SignalError> {
+    use rayon::prelude::*;
+    let mut next_line: u64 = 2;
+    let mut carry: Vec<u8> = Vec::new();
+    let pieces = (rayon::current_num_threads() * 4).max(1);
+    loop {
+        let mut buf = std::mem::take(&mut carry);
+        let have = buf.len();
+        buf.resize(have + BLOCK_BYTES, 0);
+        let mut got = 0;
+        while have + got < buf.len() {
+            let n = reader.read(&mut buf[have + got..]).map_err(|e| io_error(&l.file, e))?;
+            if n == 0 {
+                break;
+            }
+            got += n;
+        }
+        let eof = have + got < buf.len();
+        buf.truncate(have + got);
+        if buf.is_empty() {
+            return Ok(());
+        }
+        let cut = if eof {
+            buf.len()
+        } else {
+            match buf.iter().rposition(|&b| b == b'\n') {
+                Some(p) => p + 1,
+                None if buf.len() > MAX_LINE_BYTES => {
+                    return Err(SignalError::Unsupported {
+                        file: l.file.clone(),
+                        message: format!("line {next_line} is longer than {MAX_LINE_BYTES} bytes: not a log"),
+                    });
+                }
+                None => {
+                    carry = buf;
+                    continue;
+                }
+            }
+        };
+        carry = buf[cut..].to_vec();
+        buf.truncate(cut);
+        let body = buf.strip_suffix(b"\n").unwrap_or(&buf);
+        // Pieces end at newlines; their first line numbers come from counting newlines.
+        let mut bounds = vec![0usize];
+        for k in 1..pieces {
+            let target = body.len() * k / pieces;
+            let from = *bounds.last().unwrap_or(&0);
+            if target <= from {
+                continue;
+            }
+            if let Some(p) = body[target..].iter().position(|&b| b == b'\n') {
+                bounds.push(target + p + 1);
+            }
+        }
+        bounds.push(body.len() + 1);
+        bounds.dedup();
+        let spans: Vec<(usize, usize)> = bounds.windows(2).map(|w| (w[0], w[1] - 1)).collect();
+        let counts: Vec<u64> = spans.par_iter().map(|&(a, b)| body[a..b].iter().filter(|&&c| c == b'\n').count() as u64 + 1).collect();
+        let mut starts = Vec::with_capacity(spans.len());
+        let mut line = next_line;
+        for c in &counts {
+            starts.push(line);
+            line += c;
+        }
+        let quoted = body.contains(&b'"');
+        let parsed: Vec<Parsed> = if quoted {
+            vec![parse_quoted(body, next_line, l)]
+        } else {
+            spans.par_iter().zip(&starts).map(|(&(a, b), &s)| parse_chunk(&body[a..b], s, l)).collect()
+        };
+        next_line += buf.iter().filter(|&&c| c == b'\n').count() as u64;
+        for p in parsed {
+            feed(&p.vals, &p.lines)?;
+            if let Some(e) = p.err {
+                return Err(e);
+            }
+        }
+        if eof {
+            return Ok(());
+        }
+    }
 }
 
 /// Rows kept before the sampling interval is fixed: the median of their steps is robust to one
