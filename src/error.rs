@@ -81,7 +81,9 @@ pub enum SignalError {
     NonMonotonicTime { file: PathBuf, line: u64, time: f64, previous: f64 },
     #[error("{}: line {line}: time step {dt} s departs from the sampling interval {expected_dt} s by more than {tolerance_pct}% (jitter or gap); pass --resample to interpolate onto a uniform grid", file.display())]
     NonUniformTime { file: PathBuf, line: u64, dt: f64, expected_dt: f64, tolerance_pct: f64 },
-    #[error("{}: no time column (time, time_s, t, ...) and no sampling rate given; pass --fs", file.display())]
+    #[error("{}: line {line}: a gap of {dt} s is more than {max_steps} sampling intervals ({expected_dt} s); it cannot be resampled honestly", file.display())]
+    ResampleGap { file: PathBuf, line: u64, dt: f64, expected_dt: f64, max_steps: f64 },
+    #[error("{}: no usable sampling rate: no time column (time, time_s, t, ...) with at least two finite increasing times, and no --fs", file.display())]
     NoSamplingRate { file: PathBuf },
     #[error("{}: line {line}: {message}", file.display())]
     Uff { file: PathBuf, line: u64, message: String },

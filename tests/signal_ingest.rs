@@ -134,6 +134,10 @@ fn non_uniform_time_names_the_row_unless_resampled() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["resampled"]["irregular_rows"], 1);
     assert!(err.contains("resampled"), "{err}");
+    // A gap of 500 intervals is not bridged, even with --resample.
+    let p = write("biggap.csv", b"time_s,a\n0,1\n0.001,2\n0.002,3\n0.502,4\n0.503,5\n");
+    let e = read_csv(&p, &IngestOptions { resample: true, ..Default::default() }).unwrap_err().to_string();
+    assert!(e.contains("line 5") && e.contains("100 sampling intervals"), "{e}");
 }
 
 #[test]

@@ -82,6 +82,19 @@ proptest! {
     }
 
     #[test]
+    fn extreme_time_columns_end_in_a_value_or_an_error(times in prop::collection::vec(prop_oneof![any::<f64>(), 0.0f64..1.0, Just(1e-300), Just(1e300)], 1..40), resample in any::<bool>()) {
+        let mut s = String::from("t,a\n");
+        for t in &times {
+            s.push_str(&format!("{t:e},1\n"));
+        }
+        if let Ok(log) = read_bytes(s.as_bytes(), &IngestOptions { resample, ..Default::default() }) {
+            prop_assert!(log.info.fs_hz.is_finite() && log.info.fs_hz > 0.0);
+            // Resampling never bridges more than 100 intervals per input step.
+            prop_assert!(log.info.samples <= 100 * times.len() as u64 + 1);
+        }
+    }
+
+    #[test]
     fn uff_reader_never_panics_on_bytes(bytes in prop::collection::vec(any::<u8>(), 0..400)) {
         let _ = parse_uff58(Path::new("fuzz.uff"), &bytes);
         let mut b = b"    -1\n    58\n".to_vec();

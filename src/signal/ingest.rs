@@ -350,7 +350,10 @@ pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64]
         }
         Ok(())
     };
-    read_rows(&mut reader, &layout, &mut feed)?;
+    // Small files get a buffer of their own size, not a whole block.
+    let size = std::fs::metadata(path).map_or(BLOCK_BYTES as u64, |m| m.len());
+    let block = (size as usize).saturating_add(1).clamp(1 << 12, BLOCK_BYTES);
+    read_rows(&mut reader, &layout, block, &mut feed)?;
     if rows == 0 {
         return Err(SignalError::HeaderOnly { file: fpath.clone() });
     }
@@ -387,22 +390,53 @@ struct Parsed {
     err: Option<SignalError>,
 }
 
-/// Parses one line (no newline) into `out`; `Ok(false)` for a blank line.
+/// Parses one line (no newline) into `out`; `Ok(false)` for a blank line. One pass over the
+/// bytes: fields are cut at commas as they come, and only the needed ones are parsed.
 fn parse_line(line: &[u8], line_no: u64, l: &RowLayout, out: &mut Vec<f64>) -> Result<bool, SignalError> {
     let line = line.strip_suffix(b"\r").unwrap_or(line);
-    if line.trim_ascii().is_empty() {
+    if line.is_empty() {
         return Ok(false);
-    }
-    let found = line.iter().filter(|&&b| b == b',').count() + 1;
-    if found != l.slots.len() {
-        return Err(SignalError::RaggedRow { file: l.file.clone(), line: line_no, expected: l.slots.len(), found });
     }
     let base = out.len();
     out.resize(base + l.width, 0.0);
-    for (c, cell) in line.split(|&b| b == b',').enumerate() {
-        if let Some((k, factor)) = l.slots[c] {
-            out[base + k] = parse_cell(cell).ok_or_else(|| bad_cell(&l.file, line_no, &l.header[c], cell))? * factor;
+    let ncols = l.slots.len();
+    let mut c = 0usize;
+    let mut start = 0usize;
+    let mut bad: Option<(usize, usize, usize)> = None;
+    loop {
+        let end = line[start..].iter().position(|&b| b == b',').map_or(line.len(), |p| start + p);
+        if c < ncols
+            && let Some((k, factor)) = l.slots[c]
+        {
+            match parse_cell(&line[start..end]) {
+                Some(v) => out[base + k] = v * factor,
+                None => {
+                    if bad.is_none() {
+                        bad = Some((c, start, end));
+                    }
+                }
+            }
         }
+        c += 1;
+        if end == line.len() {
+            break;
+        }
+        start = end + 1;
+    }
+    if c != ncols {
+        out.truncate(base);
+        // A line of blanks is a blank line, not a one-field row.
+        if c == 1 && line.trim_ascii().is_empty() {
+            return Ok(false);
+        }
+        return Err(SignalError::RaggedRow { file: l.file.clone(), line: line_no, expected: ncols, found: c });
+    }
+    if let Some((col, a, b)) = bad {
+        out.truncate(base);
+        if ncols == 1 && line.trim_ascii().is_empty() {
+            return Ok(false);
+        }
+        return Err(bad_cell(&l.file, line_no, &l.header[col], &line[a..b]));
     }
     Ok(true)
 }
@@ -477,6 +511,7 @@ const MAX_LINE_BYTES: usize = 64 << 20;
 fn read_rows(
     reader: &mut impl Read,
     l: &RowLayout,
+    block: usize,
     feed: &mut impl FnMut(&[f64], &[u64]) -> Result<(), SignalError>,
 ) -> Result<(), SignalError> {
     use rayon::prelude::*;
@@ -486,7 +521,7 @@ fn read_rows(
     loop {
         let mut buf = std::mem::take(&mut carry);
         let have = buf.len();
-        buf.resize(have + BLOCK_BYTES, 0);
+        buf.resize(have + block, 0);
         let mut got = 0;
         while have + got < buf.len() {
             let n = reader.read(&mut buf[have + got..]).map_err(|e| io_error(&l.file, e))?;
@@ -548,7 +583,8 @@ fn read_rows(
         } else {
             spans.par_iter().zip(&starts).map(|(&(a, b), &s)| parse_chunk(&body[a..b], s, l)).collect()
         };
-        next_line += buf.iter().filter(|&&c| c == b'\n').count() as u64;
+        // Newlines in the block: those inside the pieces, the ones between them, and the last.
+        next_line += counts.iter().sum::<u64>() - 1 + u64::from(buf.ends_with(b"\n"));
         for p in parsed {
             feed(&p.vals, &p.lines)?;
             if let Some(e) = p.err {
@@ -564,6 +600,9 @@ fn read_rows(
 /// Rows kept before the sampling interval is fixed: the median of their steps is robust to one
 /// odd step at the start of the log.
 const PRIME_ROWS: usize = 33;
+
+/// Largest step, in sampling intervals, that `resample` bridges by interpolation.
+const MAX_RESAMPLE_GAP: f64 = 100.0;
 
 /// Time-column checks and, with `resample`, streaming linear interpolation onto a uniform grid.
 struct Timing {
@@ -633,6 +672,9 @@ impl Timing {
             Some(fs) => 1.0 / fs,
             None => steps.get(steps.len() / 2).copied().unwrap_or(1.0),
         };
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(SignalError::NoSamplingRate { file: self.file.clone() });
+        }
         self.t0 = primed.first().map_or(0.0, |p| p.0);
         for (t, line, row) in primed {
             self.accept(t, line, &row, sink)?;
@@ -660,6 +702,11 @@ impl Timing {
                     expected_dt: self.dt,
                     tolerance_pct: self.tol * 100.0,
                 });
+            }
+            // Interpolating across a gap of many intervals would invent data (and a gap of
+            // 1e9 intervals would never end): refuse it.
+            if !(step <= MAX_RESAMPLE_GAP * self.dt) {
+                return Err(SignalError::ResampleGap { file: self.file.clone(), line, dt: step, expected_dt: self.dt, max_steps: MAX_RESAMPLE_GAP });
             }
             if self.irregular == 0 {
                 self.first_irregular = line;
@@ -719,6 +766,9 @@ impl Timing {
             // The span of a uniform log fixes the rate better than one rounded step.
             (self.rows - 1) as f64 / (self.last_t - self.t0)
         };
+        if !(fs.is_finite() && fs > 0.0) {
+            return Err(SignalError::NoSamplingRate { file: self.file.clone() });
+        }
         let report = (self.resample && self.irregular > 0).then(|| ResampleReport {
             uniform_dt_s: self.dt,
             irregular_rows: self.irregular,

@@ -404,6 +404,9 @@ pub struct WelchStream {
 
 impl WelchStream {
     pub fn new(names: &[String], pairs: &[(usize, usize)], opts: &WelchOptions) -> Result<WelchStream, SignalError> {
+        if names.is_empty() {
+            return Err(SignalError::Invalid("a Welch stream needs at least one channel".into()));
+        }
         let engine = Engine::new(names.len(), pairs, opts)?;
         let block = block_segments(opts.nperseg, names.len());
         let cap = opts.nperseg + (block - 1) * opts.step();
