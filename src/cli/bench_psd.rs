@@ -83,9 +83,14 @@ if mode == "welch":
         out["max_rel_err_vs_ours"] = float(np.max(np.abs(ours[m] - p[m]) / p[m]))
 else:
     import pandas as pd
-    t = time.perf_counter()
-    df = pd.read_csv(path)
-    out = {"seconds": time.perf_counter() - t, "rows": len(df), "pandas": pd.__version__}
+    best = 1e99
+    for _ in range(int(sys.argv[3])):
+        t = time.perf_counter()
+        df = pd.read_csv(path)
+        best = min(best, time.perf_counter() - t)
+        rows = len(df)
+        del df
+    out = {"seconds": best, "rows": rows, "pandas": pd.__version__}
 out["peak_rss_kb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 print(json.dumps(out))
 "#;
@@ -113,11 +118,15 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
     std::fs::write(&script, PY).map_err(|e| Error::io(&script, e))?;
     let py = have_python();
     let threads = rayon::current_num_threads();
+    let load_before = std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string();
     let mut rows = Vec::new();
     for (label, n) in [("1e6", 1_000_000usize), ("1e7", 10_000_000), ("1e8", 100_000_000)] {
         eprintln!("bench psd: {label} samples ...");
         let x = signal(n);
-        let reps = if n <= 1_000_000 { 5 } else if n <= 10_000_000 { 2 } else { 1 };
+        // Best of several runs, the same count for satqual and the peers: on a shared machine
+        // the minimum is the figure least disturbed by other work.
+        let reps = if n <= 1_000_000 { 10 } else if n <= 10_000_000 { 5 } else { 1 };
+        let csv_reps = if n <= 1_000_000 { 5 } else if n <= 10_000_000 { 2 } else { 1 };
         let mut best = f64::INFINITY;
         let mut psd = None;
         for _ in 0..reps {
@@ -151,18 +160,26 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         // Read only (parse and check every row, discard): the figure comparable with pandas.
         let reset = reset_peak();
         let base_rss = status_kb("VmRSS:").unwrap_or(0);
-        let t = Instant::now();
+        let mut read_s = f64::INFINITY;
         let mut count = 0u64;
-        stream_csv(&csv, &IngestOptions::default(), |_| count += 1)?;
-        let read_s = t.elapsed().as_secs_f64();
+        for _ in 0..csv_reps {
+            let t = Instant::now();
+            count = 0;
+            stream_csv(&csv, &IngestOptions::default(), |_| count += 1)?;
+            read_s = read_s.min(t.elapsed().as_secs_f64());
+        }
         let read_peak = status_kb("VmHWM:").unwrap_or(0);
         // Read and Welch, streamed: the `satqual psd` path.
         reset_peak();
-        let t = Instant::now();
-        let res = psd_of_file(&csv, &IngestOptions::default(), &opts)?;
-        let psd_s = t.elapsed().as_secs_f64();
+        let mut psd_s = f64::INFINITY;
+        let mut res = None;
+        for _ in 0..csv_reps {
+            let t = Instant::now();
+            res = Some(psd_of_file(&csv, &IngestOptions::default(), &opts)?);
+            psd_s = psd_s.min(t.elapsed().as_secs_f64());
+        }
         let psd_peak = status_kb("VmHWM:").unwrap_or(0);
-        let pandas = if peers { python(&script, &["pandas", csv.to_str().unwrap_or("")]) } else { None };
+        let pandas = if peers { python(&script, &["pandas", csv.to_str().unwrap_or(""), &csv_reps.to_string()]) } else { None };
         let _ = std::fs::remove_file(&csv);
         let rate = |s: f64| n as f64 / s;
         let scipy_s = scipy.as_ref().and_then(|v| v["seconds"].as_f64());
@@ -188,7 +205,8 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
                 "read_peak_rss_kb": read_peak,
                 "read_and_psd_peak_rss_kb": psd_peak,
                 "peak_reset": reset,
-                "grms": res.channels.first().map(|c| c.grms),
+                "repetitions": csv_reps,
+                "grms": res.as_ref().and_then(|r| r.channels.first().map(|c| c.grms)),
             },
             "pandas_read_csv": pandas.as_ref().map(|v| json!({
                 "seconds": v["seconds"], "samples_per_s": pandas_s.map(rate), "peak_rss_kb": v["peak_rss_kb"], "version": v["pandas"],
@@ -200,8 +218,10 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
     let report = json!({
         "what": "Welch PSD throughput, nperseg 8192, Hann, 50% overlap, constant detrend, one channel, fs 8192 Hz",
         "threads": threads,
+        "loadavg_before": load_before,
+        "loadavg_after": std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim(),
         "python_peers": py,
-        "reductions": "scipy and pandas run at 1e6 and 1e7 samples only (memory: scipy holds all segments, ~5 GB at 1e8); 1e8 timed once; 1e6 best of 5, 1e7 best of 2",
+        "reductions": "scipy and pandas run at 1e6 and 1e7 samples only (memory: scipy holds all segments, ~5 GB at 1e8); 1e8 timed once; Welch best of 10 (1e6) and 5 (1e7), CSV best of 5 (1e6) and 2 (1e7), same counts for the peers",
         "rows": rows,
     });
     let md = markdown(&report);
@@ -226,7 +246,14 @@ fn fmt_mb(v: &Value) -> String {
 
 fn markdown(r: &Value) -> String {
     let mut s = String::from("# satqual bench psd\n\n");
-    s.push_str(&format!("{} ({} rayon threads). {}.\n\n", r["what"].as_str().unwrap_or(""), r["threads"], r["reductions"].as_str().unwrap_or("")));
+    s.push_str(&format!(
+        "{} ({} rayon threads). {}.\n\nLoad average (/proc/loadavg) before: {}; after: {}. Figures are wall-clock best-of-N; on a loaded machine they move by 2× between runs.\n\n",
+        r["what"].as_str().unwrap_or(""),
+        r["threads"],
+        r["reductions"].as_str().unwrap_or(""),
+        r["loadavg_before"].as_str().unwrap_or("?"),
+        r["loadavg_after"].as_str().unwrap_or("?")
+    ));
     s.push_str("| samples | satqual Welch (memory) | scipy.signal.welch | speed-up | satqual CSV read | pandas.read_csv | speed-up | satqual CSV read + PSD | peak RSS read+PSD (baseline) | file |\n");
     s.push_str("|---|---|---|---|---|---|---|---|---|---|\n");
     for row in r["rows"].as_array().into_iter().flatten() {
