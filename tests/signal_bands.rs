@@ -3,7 +3,10 @@
 //! References: SOURCE.md (Grms = 0.5595 g by trapezoid), data/signal-refs/tolerance_refs.json
 //! (numpy, `python3 data/signal-refs/make_tolerance_refs.py`), and closed forms for flat spectra.
 
-use satqual::signal::{ToleranceSpec, ToleranceStatus, band_rms, octave_bands, read_profile, read_uff58, rms_of, tolerance_bands};
+use satqual::signal::{
+    ToleranceSpec, ToleranceStatus, band_rms, octave_bands, read_profile, read_uff58, rms_of,
+    tolerance_bands,
+};
 use serde_json::Value;
 use std::path::PathBuf;
 use std::process::Command;
@@ -13,7 +16,9 @@ fn root() -> PathBuf {
 }
 
 fn uff_psd() -> (Vec<f64>, Vec<f64>) {
-    let recs = read_uff58(&root().join("data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff")).unwrap();
+    let recs =
+        read_uff58(&root().join("data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff"))
+            .unwrap();
     assert_eq!(recs.len(), 1);
     let r = &recs[0];
     assert_eq!(r.function_type, 9);
@@ -26,11 +31,18 @@ fn uff_psd_matches_pyuff_csv_and_source_grms() {
     let (f, p) = uff_psd();
     // The CSV is pyuff's conversion of the same record: identical values (both parse the same
     // decimal text), checked to 1e-12 relative.
-    let csv = std::fs::read_to_string(root().join("data/realdata/pyuff-vibcontrol-psd/vibcontrol_random_pilot_psd.csv")).unwrap();
+    let csv = std::fs::read_to_string(
+        root().join("data/realdata/pyuff-vibcontrol-psd/vibcontrol_random_pilot_psd.csv"),
+    )
+    .unwrap();
     for (k, line) in csv.lines().skip(1).enumerate() {
         let mut it = line.split(',').map(|s| s.parse::<f64>().unwrap());
         let (cf, cp) = (it.next().unwrap(), it.next().unwrap());
-        assert!((cf - f[k]).abs() <= 1e-12 * cf.abs().max(1.0) && (cp - p[k]).abs() <= 1e-12 * cp.abs().max(1e-300), "line {k}");
+        assert!(
+            (cf - f[k]).abs() <= 1e-12 * cf.abs().max(1.0)
+                && (cp - p[k]).abs() <= 1e-12 * cp.abs().max(1e-300),
+            "line {k}"
+        );
     }
     let grms = rms_of(&f, &p);
     eprintln!("Grms {grms:.6}");
@@ -52,15 +64,21 @@ fn flat_spectrum_band_levels_are_exact() {
         assert!((b.upper_hz / b.lower_hz - 10f64.powf(0.1)).abs() < 1e-12);
     }
     let oct = octave_bands(&f, &s, 1);
-    assert!(oct.iter().any(|b| (b.center_hz - 1000.0 * 10f64.powf(-0.3)).abs() < 1e-9), "{oct:?}");
+    assert!(
+        oct.iter()
+            .any(|b| (b.center_hz - 1000.0 * 10f64.powf(-0.3)).abs() < 1e-9),
+        "{oct:?}"
+    );
 }
 
 #[test]
 fn tolerance_bands_match_numpy_and_gate_correctly() {
     let (f, p) = uff_psd();
     let prof = read_profile(&root().join("data/signal-refs/vibcontrol_profile.toml")).unwrap();
-    let refs: Value =
-        serde_json::from_str(&std::fs::read_to_string(root().join("data/signal-refs/tolerance_refs.json")).unwrap()).unwrap();
+    let refs: Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("data/signal-refs/tolerance_refs.json")).unwrap(),
+    )
+    .unwrap();
     for case in refs["cases"].as_array().unwrap() {
         let scale = case["scale"].as_f64().unwrap();
         let scaled: Vec<(f64, f64)> = prof.iter().map(|&(a, b)| (a, b * scale)).collect();
@@ -72,8 +90,13 @@ fn tolerance_bands_match_numpy_and_gate_correctly() {
         assert!((r.fraction_outside_abort - case["abort"].as_f64().unwrap()).abs() < 1e-12);
         assert!((r.worst_excursion_db - case["worst_db"].as_f64().unwrap()).abs() < 1e-9);
         assert_eq!(r.worst_frequency_hz, case["worst_hz"].as_f64().unwrap());
-        let (m, rf) = (case["measured_grms"].as_f64().unwrap(), case["reference_grms"].as_f64().unwrap());
-        assert!((r.measured_grms - m).abs() < 1e-9 * m && (r.reference_grms - rf).abs() < 1e-9 * rf);
+        let (m, rf) = (
+            case["measured_grms"].as_f64().unwrap(),
+            case["reference_grms"].as_f64().unwrap(),
+        );
+        assert!(
+            (r.measured_grms - m).abs() < 1e-9 * m && (r.reference_grms - rf).abs() < 1e-9 * rf
+        );
         if scale == 1.0 {
             // The fitted profile: 1.2% of lines beyond ±3 dB (alarm), none beyond ±6 dB, Grms +1.1%.
             assert_eq!(r.status, ToleranceStatus::Alarm);
@@ -86,15 +109,28 @@ fn tolerance_bands_match_numpy_and_gate_correctly() {
 }
 
 fn run(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_satqual")).args(args).output().unwrap();
-    (o.status.code().unwrap_or(-1), String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned())
+    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
 }
 
 #[test]
 fn cli_tolerance_passes_fitted_profile_and_fails_a_doubled_one() {
     let uff = root().join("data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff");
     let prof = root().join("data/signal-refs/vibcontrol_profile.toml");
-    let (code, out, err) = run(&["psd", uff.to_str().unwrap(), "--profile", prof.to_str().unwrap(), "--json"]);
+    let (code, out, err) = run(&[
+        "psd",
+        uff.to_str().unwrap(),
+        "--profile",
+        prof.to_str().unwrap(),
+        "--json",
+    ]);
     assert_eq!(code, 0, "{err}");
     let v: Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["pass"], true);
@@ -105,9 +141,19 @@ fn cli_tolerance_passes_fitted_profile_and_fails_a_doubled_one() {
     let dir = std::env::temp_dir().join(format!("satqual-sig-tol-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let doubled = dir.join("doubled.csv");
-    let rows: String = read_profile(&prof).unwrap().iter().map(|(f, g)| format!("{f},{}\n", 2.0 * g)).collect();
+    let rows: String = read_profile(&prof)
+        .unwrap()
+        .iter()
+        .map(|(f, g)| format!("{f},{}\n", 2.0 * g))
+        .collect();
     std::fs::write(&doubled, format!("f_hz,g2_hz\n{rows}")).unwrap();
-    let (code, out, err) = run(&["psd", uff.to_str().unwrap(), "--profile", doubled.to_str().unwrap(), "--json"]);
+    let (code, out, err) = run(&[
+        "psd",
+        uff.to_str().unwrap(),
+        "--profile",
+        doubled.to_str().unwrap(),
+        "--json",
+    ]);
     assert_eq!(code, 1, "{err}");
     let v: Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["pass"], false);

@@ -26,7 +26,11 @@ fn cli(args: &[&str], threads: Option<&str>) -> (i32, String, String) {
         c.env("RAYON_NUM_THREADS", t);
     }
     let o = c.output().unwrap();
-    (o.status.code().unwrap_or(-1), String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned())
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
 }
 
 /// A uniform CSV log: time + channels of deterministic pseudo-random data.
@@ -36,8 +40,11 @@ fn uniform_csv(n: usize, channels: &[&str]) -> String {
     for i in 0..n {
         s.push_str(&format!("{:.9}", i as f64 / 1000.0));
         for c in 0..channels.len() {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            let v = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) + (i as f64 * 0.05 * (c + 1) as f64).sin();
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let v = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
+                + (i as f64 * 0.05 * (c + 1) as f64).sin();
             s.push_str(&format!(",{v:.12e}"));
         }
         s.push('\n');
@@ -51,7 +58,10 @@ fn expect_error(p: &Path, opts: &IngestOptions, extra: &[&str], needles: &[&str]
     for n in needles {
         assert!(e.contains(n), "library message `{e}` lacks `{n}`");
     }
-    assert!(e.contains(&p.display().to_string()), "message `{e}` does not name the file");
+    assert!(
+        e.contains(&p.display().to_string()),
+        "message `{e}` does not name the file"
+    );
     let mut args = vec!["psd", p.to_str().unwrap(), "--nperseg", "4"];
     args.extend(extra);
     let (code, _, err) = cli(&args, None);
@@ -68,23 +78,97 @@ fn bad_files_get_clear_errors() {
     let o = IngestOptions::default();
     expect_error(&write("empty.csv", b""), &o, &[], &["empty"]);
     expect_error(&write("blank.csv", b"\n \n"), &o, &[], &["empty"]);
-    expect_error(&write("header.csv", b"time_s,a,b\n"), &o, &[], &["no data rows"]);
-    expect_error(&write("onecol_time.csv", b"time_s\n0\n0.001\n"), &o, &[], &["no data channel", "time column"]);
-    expect_error(&write("onecol_nofs.csv", b"accel\n1\n2\n"), &o, &[], &["no time column", "--fs"]);
-    expect_error(&write("ragged.csv", b"time_s,a,b\n0,1,2\n0.001,1\n0.002,1,2\n"), &o, &[], &["line 3", "expected 3 fields", "found 2"]);
-    expect_error(&write("noname.csv", b"time_s,,b\n0,1,2\n"), &o, &[], &["line 1", "column 2 has no channel name"]);
-    expect_error(&write("dup.csv", b"time_s,a,a\n0,1,2\n"), &o, &[], &["`a` appears twice"]);
-    expect_error(&write("nan.csv", b"time_s,a,b\n0,1,2\n0.001,NaN,2\n"), &o, &[], &["line 3", "column `a`", "not a number"]);
-    expect_error(&write("inf.csv", b"time_s,a,b\n0,1,2\n0.001,1,inf\n"), &o, &[], &["line 3", "column `b`", "non-finite"]);
-    expect_error(&write("text.csv", b"time_s,a,b\n0,1,2\n0.001,1,2\n0.002,1.2.3,2\n"), &o, &[], &["line 4", "column `a`", "cannot parse", "1.2.3"]);
-    expect_error(&write("badtime.csv", b"time_s,a\n0,1\nx,2\n"), &o, &[], &["line 3", "column `time_s`"]);
-    expect_error(&write("nonmono.csv", b"time_s,a\n0,1\n0.001,2\n0.003,1\n0.002,2\n"), &o, &[], &["line 5", "does not increase"]);
-    expect_error(&write("binary.csv", &[0x50, 0x4b, 0x03, 0x04, 0x00, 0x00, 0xff, 0xfe]), &o, &[], &["binary", "byte 0x03 at offset 2"]);
-    expect_error(&write("latin1.csv", b"time_s,a\n0,\xb0\xff\xfe\n"), &o, &[], &["binary"]);
-    let sel = IngestOptions { channels: Some(vec!["zz".into()]), ..Default::default() };
+    expect_error(
+        &write("header.csv", b"time_s,a,b\n"),
+        &o,
+        &[],
+        &["no data rows"],
+    );
+    expect_error(
+        &write("onecol_time.csv", b"time_s\n0\n0.001\n"),
+        &o,
+        &[],
+        &["no data channel", "time column"],
+    );
+    expect_error(
+        &write("onecol_nofs.csv", b"accel\n1\n2\n"),
+        &o,
+        &[],
+        &["no time column", "--fs"],
+    );
+    expect_error(
+        &write("ragged.csv", b"time_s,a,b\n0,1,2\n0.001,1\n0.002,1,2\n"),
+        &o,
+        &[],
+        &["line 3", "expected 3 fields", "found 2"],
+    );
+    expect_error(
+        &write("noname.csv", b"time_s,,b\n0,1,2\n"),
+        &o,
+        &[],
+        &["line 1", "column 2 has no channel name"],
+    );
+    expect_error(
+        &write("dup.csv", b"time_s,a,a\n0,1,2\n"),
+        &o,
+        &[],
+        &["`a` appears twice"],
+    );
+    expect_error(
+        &write("nan.csv", b"time_s,a,b\n0,1,2\n0.001,NaN,2\n"),
+        &o,
+        &[],
+        &["line 3", "column `a`", "not a number"],
+    );
+    expect_error(
+        &write("inf.csv", b"time_s,a,b\n0,1,2\n0.001,1,inf\n"),
+        &o,
+        &[],
+        &["line 3", "column `b`", "non-finite"],
+    );
+    expect_error(
+        &write("text.csv", b"time_s,a,b\n0,1,2\n0.001,1,2\n0.002,1.2.3,2\n"),
+        &o,
+        &[],
+        &["line 4", "column `a`", "cannot parse", "1.2.3"],
+    );
+    expect_error(
+        &write("badtime.csv", b"time_s,a\n0,1\nx,2\n"),
+        &o,
+        &[],
+        &["line 3", "column `time_s`"],
+    );
+    expect_error(
+        &write("nonmono.csv", b"time_s,a\n0,1\n0.001,2\n0.003,1\n0.002,2\n"),
+        &o,
+        &[],
+        &["line 5", "does not increase"],
+    );
+    expect_error(
+        &write(
+            "binary.csv",
+            &[0x50, 0x4b, 0x03, 0x04, 0x00, 0x00, 0xff, 0xfe],
+        ),
+        &o,
+        &[],
+        &["binary", "byte 0x03 at offset 2"],
+    );
+    expect_error(
+        &write("latin1.csv", b"time_s,a\n0,\xb0\xff\xfe\n"),
+        &o,
+        &[],
+        &["binary"],
+    );
+    let sel = IngestOptions {
+        channels: Some(vec!["zz".into()]),
+        ..Default::default()
+    };
     let p = write("sel.csv", b"time_s,a,b\n0,1,2\n0.001,1,2\n");
     let e = read_csv(&p, &sel).unwrap_err().to_string();
-    assert!(e.contains("no channel named `zz`") && e.contains("available: a, b"), "{e}");
+    assert!(
+        e.contains("no channel named `zz`") && e.contains("available: a, b"),
+        "{e}"
+    );
     let (code, _, err) = cli(&["psd", p.to_str().unwrap(), "--channels", "zz"], None);
     assert!(code == 2 && err.contains("`zz`"), "{err}");
 }
@@ -92,7 +176,14 @@ fn bad_files_get_clear_errors() {
 #[test]
 fn one_data_column_with_fs_is_fine() {
     let p = write("onecol_fs.csv", b"accel_g\n1\n2\n3\n4\n5\n6\n7\n8\n");
-    let log = read_csv(&p, &IngestOptions { fs: Some(100.0), ..Default::default() }).unwrap();
+    let log = read_csv(
+        &p,
+        &IngestOptions {
+            fs: Some(100.0),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert_eq!(log.info.fs_hz, 100.0);
     assert_eq!(log.data[0], vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
 }
@@ -102,13 +193,35 @@ fn welch_parameter_errors_from_the_cli() {
     let p = write("short.csv", uniform_csv(100, &["a"]).as_bytes());
     let (code, _, err) = cli(&["psd", p.to_str().unwrap(), "--nperseg", "256"], None);
     assert_eq!(code, 2);
-    assert!(err.contains("nperseg = 256") && err.contains("100 samples") && err.contains("short.csv"), "{err}");
+    assert!(
+        err.contains("nperseg = 256") && err.contains("100 samples") && err.contains("short.csv"),
+        "{err}"
+    );
     for ov in ["1", "1.5", "-0.2"] {
-        let (code, _, err) = cli(&["psd", p.to_str().unwrap(), "--nperseg", "16", &format!("--overlap={ov}")], None);
+        let (code, _, err) = cli(
+            &[
+                "psd",
+                p.to_str().unwrap(),
+                "--nperseg",
+                "16",
+                &format!("--overlap={ov}"),
+            ],
+            None,
+        );
         assert_eq!(code, 2, "{err}");
         assert!(err.contains("overlap") && err.contains("[0, 1)"), "{err}");
     }
-    let (code, _, err) = cli(&["psd", p.to_str().unwrap(), "--nperseg", "16", "--window", "kaiser"], None);
+    let (code, _, err) = cli(
+        &[
+            "psd",
+            p.to_str().unwrap(),
+            "--nperseg",
+            "16",
+            "--window",
+            "kaiser",
+        ],
+        None,
+    );
     assert!(code == 2 && err.contains("kaiser"), "{err}");
 }
 
@@ -118,32 +231,83 @@ fn non_uniform_time_names_the_row_unless_resampled() {
     let mut t = 0.0;
     for i in 0..200 {
         // A gap: one step of 3 ms instead of 1 ms at data row 120 (file line 122).
-        t += if i == 120 { 0.003 } else if i == 0 { 0.0 } else { 0.001 };
+        t += if i == 120 {
+            0.003
+        } else if i == 0 {
+            0.0
+        } else {
+            0.001
+        };
         s.push_str(&format!("{t:.6},{}\n", (i as f64 * 0.3).sin()));
     }
     let p = write("gap.csv", s.as_bytes());
-    expect_error(&p, &IngestOptions::default(), &[], &["line 122", "time step", "--resample"]);
-    let log = read_csv(&p, &IngestOptions { resample: true, ..Default::default() }).unwrap();
+    expect_error(
+        &p,
+        &IngestOptions::default(),
+        &[],
+        &["line 122", "time step", "--resample"],
+    );
+    let log = read_csv(
+        &p,
+        &IngestOptions {
+            resample: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let r = log.info.resampled.clone().expect("a resampling report");
-    assert_eq!((r.irregular_rows, r.first_irregular_line, r.input_rows), (1, 122, 200));
+    assert_eq!(
+        (r.irregular_rows, r.first_irregular_line, r.input_rows),
+        (1, 122, 200)
+    );
     // 200 rows spanning 0.201 s at 1 ms: 202 grid points (the gap is filled by 2).
     assert_eq!(r.output_samples, 202);
     assert!((log.info.fs_hz - 1000.0).abs() < 1e-6);
-    let (code, out, err) = cli(&["psd", p.to_str().unwrap(), "--nperseg", "64", "--resample", "--json"], None);
+    let (code, out, err) = cli(
+        &[
+            "psd",
+            p.to_str().unwrap(),
+            "--nperseg",
+            "64",
+            "--resample",
+            "--json",
+        ],
+        None,
+    );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["resampled"]["irregular_rows"], 1);
     assert!(err.contains("resampled"), "{err}");
     // A gap of 500 intervals is not bridged, even with --resample.
-    let p = write("biggap.csv", b"time_s,a\n0,1\n0.001,2\n0.002,3\n0.502,4\n0.503,5\n");
-    let e = read_csv(&p, &IngestOptions { resample: true, ..Default::default() }).unwrap_err().to_string();
-    assert!(e.contains("line 5") && e.contains("100 sampling intervals"), "{e}");
+    let p = write(
+        "biggap.csv",
+        b"time_s,a\n0,1\n0.001,2\n0.002,3\n0.502,4\n0.503,5\n",
+    );
+    let e = read_csv(
+        &p,
+        &IngestOptions {
+            resample: true,
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("line 5") && e.contains("100 sampling intervals"),
+        "{e}"
+    );
 }
 
 #[test]
 fn streamed_psd_equals_in_memory_welch_and_units_convert() {
-    let p = write("multi.csv", uniform_csv(20000, &["a_g", "b_m_s2", "c"]).as_bytes());
-    let o = WelchOptions { nperseg: 1000, ..Default::default() };
+    let p = write(
+        "multi.csv",
+        uniform_csv(20000, &["a_g", "b_m_s2", "c"]).as_bytes(),
+    );
+    let o = WelchOptions {
+        nperseg: 1000,
+        ..Default::default()
+    };
     let streamed = psd_of_file(&p, &IngestOptions::default(), &o).unwrap();
     let log = read_csv(&p, &IngestOptions::default()).unwrap();
     // Time column printed to 1e-9 s over 20 s: fs within 1e-9 relative of 1000 Hz.
@@ -154,14 +318,24 @@ fn streamed_psd_equals_in_memory_welch_and_units_convert() {
         assert_eq!(ch.psd.values, mem.values, "channel {}", ch.name);
     }
     // b is in m/s² (its name says so) and reported in g: its values were divided by g0.
-    let raw = read_csv(&p, &IngestOptions { channel_units: vec![("b_m_s2".into(), satqual::signal::Unit::AsIs)], ..Default::default() }).unwrap();
+    let raw = read_csv(
+        &p,
+        &IngestOptions {
+            channel_units: vec![("b_m_s2".into(), satqual::signal::Unit::AsIs)],
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert_eq!(streamed.channels[1].unit, "g");
     assert!((raw.data[1][5] / satqual::units::G - log.data[1][5]).abs() < 1e-15);
 }
 
 #[test]
 fn results_do_not_depend_on_thread_count() {
-    let p = write("threads.csv", uniform_csv(60000, &["a", "b", "c", "d"]).as_bytes());
+    let p = write(
+        "threads.csv",
+        uniform_csv(60000, &["a", "b", "c", "d"]).as_bytes(),
+    );
     let args = ["psd", p.to_str().unwrap(), "--nperseg", "512", "--json"];
     let (c1, o1, e1) = cli(&args, Some("1"));
     let (c2, o2, e2) = cli(&args, Some("2"));
@@ -174,8 +348,19 @@ fn results_do_not_depend_on_thread_count() {
 
 #[test]
 fn uff_bad_inputs_are_errors() {
-    let good = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff")).unwrap_or_else(|_| {
-        String::from_utf8_lossy(&std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff")).unwrap()).into_owned()
+    let good = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff"
+    ))
+    .unwrap_or_else(|_| {
+        String::from_utf8_lossy(
+            &std::fs::read(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff"
+            ))
+            .unwrap(),
+        )
+        .into_owned()
     });
     let lines: Vec<&str> = good.lines().collect();
     let truncated = lines[..200].join("\n");
@@ -186,13 +371,19 @@ fn uff_bad_inputs_are_errors() {
     short.remove(100);
     let p = write("short.uff", short.join("\n").as_bytes());
     let e = satqual::signal::read_uff58(&p).unwrap_err().to_string();
-    assert!(e.contains("announces 3201 points") && e.contains("line 2"), "{e}");
+    assert!(
+        e.contains("announces 3201 points") && e.contains("line 2"),
+        "{e}"
+    );
     let mut bad: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
     bad[50] = bad[50].replacen("E", "Q", 1);
     let p = write("badnum.uff", bad.join("\n").as_bytes());
     let e = satqual::signal::read_uff58(&p).unwrap_err().to_string();
     assert!(e.contains("line 51") && e.contains("cannot parse"), "{e}");
-    let p = write("b.uff", b"    -1\n    58b     1     1          11        1000     0     0     0     0\n");
+    let p = write(
+        "b.uff",
+        b"    -1\n    58b     1     1          11        1000     0     0     0     0\n",
+    );
     let e = satqual::signal::read_uff58(&p).unwrap_err().to_string();
     assert!(e.contains("58b"), "{e}");
     let (code, _, err) = cli(&["psd", p.to_str().unwrap()], None);
@@ -210,23 +401,39 @@ fn errors_deep_in_a_multi_block_file_name_the_right_line() {
     parts[target] = format!("{t},nan");
     s = parts.join("\n");
     let p = write("deep.csv", s.as_bytes());
-    let e = read_csv(&p, &IngestOptions::default()).unwrap_err().to_string();
+    let e = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("line 250002") && e.contains("column `a`"), "{e}");
     parts[target] = format!("{t},0.5");
     parts.insert(100_000, String::new());
     parts.insert(100_000, " ".into());
     let p = write("deep_ok.csv", parts.join("\r\n").as_bytes());
     let log = read_csv(&p, &IngestOptions::default()).unwrap();
-    assert_eq!(log.info.samples, 300_000, "blank lines are skipped, CRLF accepted");
+    assert_eq!(
+        log.info.samples, 300_000,
+        "blank lines are skipped, CRLF accepted"
+    );
     assert_eq!(log.data[0][target - 1], 0.5);
 }
 
 #[test]
 fn quoted_cells_are_read_through_the_csv_parser() {
-    let p = write("quoted.csv", b"\"time_s\",\"a\"\n0,\"1.5\"\n0.001,2\n0.002,\"x\"\n");
-    let e = read_csv(&p, &IngestOptions::default()).unwrap_err().to_string();
-    assert!(e.contains("line 4") && e.contains("column `a`") && e.contains("`x`"), "{e}");
-    let p = write("quoted_ok.csv", b"\"time_s\",\"a\"\n0,\"1.5\"\n0.001,2\n0.002,\" 3 \"\n");
+    let p = write(
+        "quoted.csv",
+        b"\"time_s\",\"a\"\n0,\"1.5\"\n0.001,2\n0.002,\"x\"\n",
+    );
+    let e = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 4") && e.contains("column `a`") && e.contains("`x`"),
+        "{e}"
+    );
+    let p = write(
+        "quoted_ok.csv",
+        b"\"time_s\",\"a\"\n0,\"1.5\"\n0.001,2\n0.002,\" 3 \"\n",
+    );
     let log = read_csv(&p, &IngestOptions::default()).unwrap();
     assert_eq!(log.data[0], vec![1.5, 2.0, 3.0]);
 }

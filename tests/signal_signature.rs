@@ -41,15 +41,27 @@ fn write_signature(path: &Path, freqs: &[f64], seed: u64) {
                 *v += h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
             }
         }
-        out.push_str(&format!("{:.9},{:.9e},{:.9e}\n", i as f64 / fs, f, a + 0.01 * gauss(&mut rng)));
+        out.push_str(&format!(
+            "{:.9},{:.9e},{:.9e}\n",
+            i as f64 / fs,
+            f,
+            a + 0.01 * gauss(&mut rng)
+        ));
     }
     std::fs::write(path, out).unwrap();
 }
 
 fn run(args: &[&str]) -> (i32, Value, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_satqual")).args(args).output().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
+        .args(args)
+        .output()
+        .unwrap();
     let v = serde_json::from_slice(&o.stdout).unwrap_or(Value::Null);
-    (o.status.code().unwrap_or(-1), v, String::from_utf8_lossy(&o.stderr).into_owned())
+    (
+        o.status.code().unwrap_or(-1),
+        v,
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -67,9 +79,21 @@ fn mode_dropping_6_percent_fails_and_is_named_intact_passes() {
     write_signature(&before, &[40.0, 95.0, 210.0], 1);
     write_signature(&intact, &[40.0, 95.0, 210.0], 2);
     write_signature(&damaged, &[40.0, 95.0 * 0.94, 210.0], 3);
-    let common = ["--input", "force", "--output", "accel_g", "--nperseg", "4096", "--json"];
+    let common = [
+        "--input",
+        "force",
+        "--output",
+        "accel_g",
+        "--nperseg",
+        "4096",
+        "--json",
+    ];
 
-    let mut a = vec!["signature", before.to_str().unwrap(), intact.to_str().unwrap()];
+    let mut a = vec![
+        "signature",
+        before.to_str().unwrap(),
+        intact.to_str().unwrap(),
+    ];
     a.extend(common);
     let (code, v, err) = run(&a);
     eprintln!("intact: {}", serde_json::to_string(&v["modes"]).unwrap());
@@ -78,14 +102,24 @@ fn mode_dropping_6_percent_fails_and_is_named_intact_passes() {
     let modes = v["modes"].as_array().unwrap();
     assert_eq!(modes.len(), 3, "{v}");
     for (m, f) in modes.iter().zip([40.0, 95.0, 210.0]) {
-        assert!((m["before_hz"].as_f64().unwrap() - f).abs() < 0.005 * f, "{m}");
+        assert!(
+            (m["before_hz"].as_f64().unwrap() - f).abs() < 0.005 * f,
+            "{m}"
+        );
         assert!(m["shift_pct"].as_f64().unwrap().abs() < 0.5, "{m}");
     }
 
-    let mut a = vec!["signature", before.to_str().unwrap(), damaged.to_str().unwrap()];
+    let mut a = vec![
+        "signature",
+        before.to_str().unwrap(),
+        damaged.to_str().unwrap(),
+    ];
     a.extend(common);
     let (code, v, err) = run(&a);
-    eprintln!("damaged: {}\n{err}", serde_json::to_string(&v["modes"]).unwrap());
+    eprintln!(
+        "damaged: {}\n{err}",
+        serde_json::to_string(&v["modes"]).unwrap()
+    );
     assert_eq!(code, 1, "a 6% drop must fail the gate: {err}");
     assert_eq!(v["pass"], false);
     let modes = v["modes"].as_array().unwrap();
@@ -97,7 +131,10 @@ fn mode_dropping_6_percent_fails_and_is_named_intact_passes() {
     let failures = v["failures"].as_array().unwrap();
     assert_eq!(failures.len(), 1);
     let msg = failures[0].as_str().unwrap();
-    assert!(msg.starts_with("mode 2 at 95.") && msg.contains("frequency shift"), "{msg}");
+    assert!(
+        msg.starts_with("mode 2 at 95.") && msg.contains("frequency shift"),
+        "{msg}"
+    );
     assert!(err.contains("mode 2") && err.contains("FAIL"), "{err}");
     std::fs::remove_dir_all(&d).ok();
 }

@@ -22,7 +22,14 @@ struct Sweep {
 }
 
 /// Log sweep `f0`→`f1` over `dur` s, unit force on m = 1 kg, SDOF (fn, zeta).
-fn simulate(fs: f64, f0: f64, f1: f64, dur: f64, fnat: f64, zeta: f64, noise: f64, seed: u64) -> Sweep {
+fn simulate(
+    fs: f64,
+    (f0, f1, dur): (f64, f64, f64),
+    fnat: f64,
+    zeta: f64,
+    noise: f64,
+    seed: u64,
+) -> Sweep {
     let wn = 2.0 * std::f64::consts::PI * fnat;
     let rate = (f1 / f0).ln() / dur;
     let phi = |t: f64| 2.0 * std::f64::consts::PI * f0 / rate * ((rate * t).exp() - 1.0);
@@ -64,13 +71,24 @@ fn tracked_sdof_gives_fn_within_half_percent_and_q_within_5_percent() {
     let (fs, fnat, q) = (2000.0, 100.0, 20.0);
     // 50 -> 200 Hz in 240 s: 0.5 octave/min, slow enough for the 5 Hz half-power band.
     // Noise: 5% of the response RMS on the response, 2.5% of the drive's on the drive.
-    let s = simulate(fs, 50.0, 200.0, 240.0, fnat, 1.0 / (2.0 * q), 0.05, 7);
+    let s = simulate(fs, (50.0, 200.0, 240.0), fnat, 1.0 / (2.0 * q), 0.05, 7);
     let track = track_sweep(&s.drive, &[&s.accel], fs, &SweepOptions::default()).unwrap();
-    assert!(track.frequency_hz.len() > 1000, "{}", track.frequency_hz.len());
+    assert!(
+        track.frequency_hz.len() > 1000,
+        "{}",
+        track.frequency_hz.len()
+    );
     let r = sweep_resonance(&track, 0).expect("a resonance");
     let fn_err = (r.frequency_hz - fnat) / fnat;
     let q_err = (r.q.expect("half-power band inside the sweep") - q) / q;
-    eprintln!("sweep: fn {:.4} Hz ({:+.4}%), Q {:.3} ({:+.3}%), sine fraction {:.4}", r.frequency_hz, 100.0 * fn_err, r.q.unwrap(), 100.0 * q_err, r.coherence);
+    eprintln!(
+        "sweep: fn {:.4} Hz ({:+.4}%), Q {:.3} ({:+.3}%), sine fraction {:.4}",
+        r.frequency_hz,
+        100.0 * fn_err,
+        r.q.unwrap(),
+        100.0 * q_err,
+        r.coherence
+    );
     assert!(fn_err.abs() < 0.005, "fn error {fn_err}");
     assert!(q_err.abs() < 0.05, "Q error {q_err}");
     // Away from resonance the tracked |H| must follow the exact accelerance of the unit-mass
@@ -89,8 +107,20 @@ fn tracked_sdof_gives_fn_within_half_percent_and_q_within_5_percent() {
 
 #[test]
 fn too_short_a_sweep_is_an_error_not_a_panic() {
-    let e = track_sweep(&[0.0; 100], &[&[0.0; 100]], 1000.0, &SweepOptions::default()).unwrap_err();
+    let e = track_sweep(
+        &[0.0; 100],
+        &[&[0.0; 100]],
+        1000.0,
+        &SweepOptions::default(),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("longer than the signal"), "{e}");
-    let e = track_sweep(&[0.0; 5000], &[&[0.0; 10]], 1000.0, &SweepOptions::default()).unwrap_err();
+    let e = track_sweep(
+        &[0.0; 5000],
+        &[&[0.0; 10]],
+        1000.0,
+        &SweepOptions::default(),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("samples"), "{e}");
 }

@@ -8,13 +8,20 @@ use satqual::signal::{Detrend, WelchOptions, Window, csd, welch};
 use serde_json::Value;
 
 fn refs() -> Value {
-    let s = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/signal-refs/welch_refs.json"))
-        .expect("reference file");
+    let s = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/signal-refs/welch_refs.json"
+    ))
+    .expect("reference file");
     serde_json::from_str(&s).expect("reference json")
 }
 
 fn vec(v: &Value) -> Vec<f64> {
-    v.as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).collect()
+    v.as_array()
+        .expect("array")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
 }
 
 /// Max relative error over significant lines; panics if an insignificant line is off by more
@@ -56,10 +63,19 @@ fn welch_matches_scipy_to_1e9() {
         let fr = p.frequencies();
         assert_eq!(fr.len(), f.len());
         for (a, b) in fr.iter().zip(&f) {
-            assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "frequency {a} vs {b}");
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                "frequency {a} vs {b}"
+            );
         }
         let e = max_rel(&p.values, &vec(&case["pxx"]));
-        eprintln!("welch {} {} nperseg={} overlap={}: max rel err {e:.3e}", o.window.name(), o.detrend.name(), o.nperseg, o.overlap);
+        eprintln!(
+            "welch {} {} nperseg={} overlap={}: max rel err {e:.3e}",
+            o.window.name(),
+            o.detrend.name(),
+            o.nperseg,
+            o.overlap
+        );
         assert!(e < 1e-9, "{case:?}: {e}");
         overall = overall.max(e);
     }
@@ -80,7 +96,11 @@ fn csd_and_coherence_match_scipy_to_1e9() {
         let im: Vec<f64> = gxy.values.iter().map(|z| z.im).collect();
         // Real and imaginary parts are compared against the |Gxy| scale: a part can cross zero,
         // where a per-part relative error means nothing.
-        let mag: Vec<f64> = vec(&case["pxy_re"]).iter().zip(vec(&case["pxy_im"])).map(|(a, b)| a.hypot(b)).collect();
+        let mag: Vec<f64> = vec(&case["pxy_re"])
+            .iter()
+            .zip(vec(&case["pxy_im"]))
+            .map(|(a, b)| a.hypot(b))
+            .collect();
         let peak = mag.iter().fold(0.0f64, |m, v| m.max(*v));
         let mut e_xy = 0.0f64;
         for k in 0..mag.len() {
@@ -99,19 +119,36 @@ fn csd_and_coherence_match_scipy_to_1e9() {
         for k in usize::from(skip_dc)..coh.len() {
             e_coh = e_coh.max((coh[k] - want_coh[k]).abs() / want_coh[k].abs());
         }
-        eprintln!("csd {} {}: Gyy {e_yy:.2e}, Gxy {e_xy:.2e}, coherence {e_coh:.2e}", o.window.name(), o.detrend.name());
-        assert!(e_yy < 1e-9 && e_xy < 1e-9 && e_coh < 1e-9, "{e_yy} {e_xy} {e_coh}");
+        eprintln!(
+            "csd {} {}: Gyy {e_yy:.2e}, Gxy {e_xy:.2e}, coherence {e_coh:.2e}",
+            o.window.name(),
+            o.detrend.name()
+        );
+        assert!(
+            e_yy < 1e-9 && e_xy < 1e-9 && e_coh < 1e-9,
+            "{e_yy} {e_xy} {e_coh}"
+        );
     }
 }
 
 #[test]
 fn nperseg_longer_than_signal_and_bad_overlap_are_errors() {
     let x = vec![0.0; 100];
-    let o = WelchOptions { nperseg: 101, ..Default::default() };
+    let o = WelchOptions {
+        nperseg: 101,
+        ..Default::default()
+    };
     let e = welch(&x, 1.0, &o).unwrap_err().to_string();
-    assert!(e.contains("nperseg = 101") && e.contains("100 samples"), "{e}");
+    assert!(
+        e.contains("nperseg = 101") && e.contains("100 samples"),
+        "{e}"
+    );
     for bad in [1.0, 1.5, -0.1, f64::NAN] {
-        let o = WelchOptions { nperseg: 10, overlap: bad, ..Default::default() };
+        let o = WelchOptions {
+            nperseg: 10,
+            overlap: bad,
+            ..Default::default()
+        };
         let e = welch(&x, 1.0, &o).unwrap_err().to_string();
         assert!(e.contains("overlap"), "{e}");
     }

@@ -96,7 +96,11 @@ print(json.dumps(out))
 "#;
 
 fn python(script: &Path, args: &[&str]) -> Option<Value> {
-    let o = std::process::Command::new("python3").arg(script).args(args).output().ok()?;
+    let o = std::process::Command::new("python3")
+        .arg(script)
+        .args(args)
+        .output()
+        .ok()?;
     if !o.status.success() {
         return None;
     }
@@ -111,22 +115,47 @@ fn have_python() -> bool {
 }
 
 pub fn run(out: &Path) -> Result<Outcome, Error> {
-    let opts = WelchOptions { nperseg: 8192, overlap: 0.5, window: Window::Hann, detrend: Detrend::Constant };
-    let tmp: PathBuf = std::env::temp_dir().join(format!("satqual-bench-psd-{}", std::process::id()));
+    let opts = WelchOptions {
+        nperseg: 8192,
+        overlap: 0.5,
+        window: Window::Hann,
+        detrend: Detrend::Constant,
+    };
+    let tmp: PathBuf =
+        std::env::temp_dir().join(format!("satqual-bench-psd-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
     let script = tmp.join("peer.py");
     std::fs::write(&script, PY).map_err(|e| Error::io(&script, e))?;
     let py = have_python();
     let threads = rayon::current_num_threads();
-    let load_before = std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_string();
+    let load_before = std::fs::read_to_string("/proc/loadavg")
+        .unwrap_or_default()
+        .trim()
+        .to_string();
     let mut rows = Vec::new();
-    for (label, n) in [("1e6", 1_000_000usize), ("1e7", 10_000_000), ("1e8", 100_000_000)] {
+    for (label, n) in [
+        ("1e6", 1_000_000usize),
+        ("1e7", 10_000_000),
+        ("1e8", 100_000_000),
+    ] {
         eprintln!("bench psd: {label} samples ...");
         let x = signal(n);
         // Best of several runs, the same count for satqual and the peers: on a shared machine
         // the minimum is the figure least disturbed by other work.
-        let reps = if n <= 1_000_000 { 10 } else if n <= 10_000_000 { 5 } else { 1 };
-        let csv_reps = if n <= 1_000_000 { 5 } else if n <= 10_000_000 { 2 } else { 1 };
+        let reps = if n <= 1_000_000 {
+            10
+        } else if n <= 10_000_000 {
+            5
+        } else {
+            1
+        };
+        let csv_reps = if n <= 1_000_000 {
+            5
+        } else if n <= 10_000_000 {
+            2
+        } else {
+            1
+        };
         let mut best = f64::INFINITY;
         let mut psd = None;
         for _ in 0..reps {
@@ -143,7 +172,15 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
             if let Some(p) = &psd {
                 write_f64(&ours_bin, &p.values)?;
             }
-            let r = python(&script, &["welch", bin.to_str().unwrap_or(""), &reps.to_string(), ours_bin.to_str().unwrap_or("")]);
+            let r = python(
+                &script,
+                &[
+                    "welch",
+                    bin.to_str().unwrap_or(""),
+                    &reps.to_string(),
+                    ours_bin.to_str().unwrap_or(""),
+                ],
+            );
             let _ = std::fs::remove_file(&bin);
             let _ = std::fs::remove_file(&ours_bin);
             r
@@ -179,7 +216,14 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
             psd_s = psd_s.min(t.elapsed().as_secs_f64());
         }
         let psd_peak = status_kb("VmHWM:").unwrap_or(0);
-        let pandas = if peers { python(&script, &["pandas", csv.to_str().unwrap_or(""), &csv_reps.to_string()]) } else { None };
+        let pandas = if peers {
+            python(
+                &script,
+                &["pandas", csv.to_str().unwrap_or(""), &csv_reps.to_string()],
+            )
+        } else {
+            None
+        };
         let _ = std::fs::remove_file(&csv);
         let rate = |s: f64| n as f64 / s;
         let scipy_s = scipy.as_ref().and_then(|v| v["seconds"].as_f64());
@@ -225,7 +269,12 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         "rows": rows,
     });
     let md = markdown(&report);
-    write_atomic(&out.join("psd.json"), serde_json::to_string_pretty(&report).map_err(|e| Error::Other(e.to_string()))?.as_bytes())?;
+    write_atomic(
+        &out.join("psd.json"),
+        serde_json::to_string_pretty(&report)
+            .map_err(|e| Error::Other(e.to_string()))?
+            .as_bytes(),
+    )?;
     write_atomic(&out.join("psd.md"), md.as_bytes())?;
     println!("{md}");
     eprintln!("wrote {}/psd.json and psd.md", out.display());
@@ -233,7 +282,8 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
 }
 
 fn fmt_rate(v: &Value) -> String {
-    v.as_f64().map_or("-".into(), |r| format!("{:.1} M/s", r / 1e6))
+    v.as_f64()
+        .map_or("-".into(), |r| format!("{:.1} M/s", r / 1e6))
 }
 
 fn fmt_ratio(v: &Value) -> String {
@@ -241,7 +291,8 @@ fn fmt_ratio(v: &Value) -> String {
 }
 
 fn fmt_mb(v: &Value) -> String {
-    v.as_f64().map_or("-".into(), |k| format!("{:.0} MB", k / 1024.0))
+    v.as_f64()
+        .map_or("-".into(), |k| format!("{:.0} MB", k / 1024.0))
 }
 
 fn markdown(r: &Value) -> String {
@@ -276,10 +327,17 @@ fn markdown(r: &Value) -> String {
         .as_array()
         .into_iter()
         .flatten()
-        .filter_map(|row| row["scipy_welch"]["max_rel_err_vs_satqual"].as_f64().map(|e| format!("{}: {e:.2e}", row["label"].as_str().unwrap_or(""))))
+        .filter_map(|row| {
+            row["scipy_welch"]["max_rel_err_vs_satqual"]
+                .as_f64()
+                .map(|e| format!("{}: {e:.2e}", row["label"].as_str().unwrap_or("")))
+        })
         .collect();
     if !errs.is_empty() {
-        s.push_str(&format!("\nMax relative difference satqual vs scipy PSD on the same samples: {}.\n", errs.join(", ")));
+        s.push_str(&format!(
+            "\nMax relative difference satqual vs scipy PSD on the same samples: {}.\n",
+            errs.join(", ")
+        ));
     }
     s.push_str("\nPeak RSS is VmHWM of this process, reset before each CSV run (/proc/self/clear_refs); the baseline is VmRSS before the run. Peers' peak RSS is in psd.json.\n");
     s

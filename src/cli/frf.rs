@@ -71,12 +71,19 @@ pub fn compute(
     wopts: &satqual::signal::WelchOptions,
     peaks: &PeakOptions,
 ) -> Result<FrfRun, Error> {
-    let mut ingest = IngestOptions { fs, resample, ..Default::default() };
+    let mut ingest = IngestOptions {
+        fs,
+        resample,
+        ..Default::default()
+    };
     parse_units(units, &mut ingest)?;
     let frf = frf_of_files(logs, input, output, &ingest, wopts)?;
     let f = frf.frequencies();
     let res = resonances(&f, &frf.h1(), &frf.coherence(), peaks);
-    Ok(FrfRun { frf, resonances: res })
+    Ok(FrfRun {
+        frf,
+        resonances: res,
+    })
 }
 
 pub fn peak_json(r: &Resonance) -> serde_json::Value {
@@ -93,7 +100,16 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         f_max_hz: args.fmax.unwrap_or(f64::INFINITY),
         db_per_decade: 20.0,
     };
-    let run = compute(&args.logs, &args.input, &args.output, args.fs, args.units.as_deref(), args.resample, &wopts, &peaks)?;
+    let run = compute(
+        &args.logs,
+        &args.input,
+        &args.output,
+        args.fs,
+        args.units.as_deref(),
+        args.resample,
+        &wopts,
+        &peaks,
+    )?;
     let h = &run.frf;
     let mut human = vec![format!(
         "{} log(s), fs {:.6} Hz, nperseg {}, {} segments averaged; H1 = {}/{}",
@@ -152,18 +168,36 @@ fn write_outputs(dir: &std::path::Path, h: &Frf, input: &str, output: &str) -> R
         ));
     }
     write_atomic(&dir.join("frf.csv"), csv.as_bytes())?;
-    let mag: Vec<(f64, f64)> = f.iter().zip(&h1).skip(1).map(|(f, z)| (*f, z.norm())).collect();
+    let mag: Vec<(f64, f64)> = f
+        .iter()
+        .zip(&h1)
+        .skip(1)
+        .map(|(f, z)| (*f, z.norm()))
+        .collect();
     let svg = lines_svg(
         &format!("|H1| = {output}/{input}"),
         "frequency [Hz]",
         "|H1|",
-        &[Series { label: "|H1|".into(), points: &mag }],
+        &[Series {
+            label: "|H1|".into(),
+            points: &mag,
+        }],
         Scale::Linear,
         Scale::Log,
     )?;
     write_atomic(&dir.join("frf.svg"), svg.as_bytes())?;
     let c: Vec<(f64, f64)> = f.iter().zip(&coh).skip(1).map(|(f, c)| (*f, *c)).collect();
-    let svg = lines_svg("coherence", "frequency [Hz]", "γ²", &[Series { label: "coherence".into(), points: &c }], Scale::Linear, Scale::Linear)?;
+    let svg = lines_svg(
+        "coherence",
+        "frequency [Hz]",
+        "γ²",
+        &[Series {
+            label: "coherence".into(),
+            points: &c,
+        }],
+        Scale::Linear,
+        Scale::Linear,
+    )?;
     write_atomic(&dir.join("coherence.svg"), svg.as_bytes())?;
     Ok(())
 }

@@ -8,8 +8,8 @@ use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
 use satqual::signal::ingest::{IngestOptions, Unit};
 use satqual::signal::{
-    Detrend, PeakOptions, PsdSource, ToleranceSpec, WelchOptions, Window, find_peaks, octave_bands, psd_of_file,
-    read_profile, tolerance_bands,
+    Detrend, PeakOptions, PsdSource, ToleranceSpec, WelchOptions, Window, find_peaks, octave_bands,
+    psd_of_file, read_profile, tolerance_bands,
 };
 use serde_json::json;
 use std::path::PathBuf;
@@ -76,13 +76,24 @@ pub fn parse_units(spec: Option<&str>, opts: &mut IngestOptions) -> Result<(), E
         let (name, unit) = item
             .split_once('=')
             .ok_or_else(|| Error::Other(format!("--units: `{item}` is not `channel=unit`")))?;
-        opts.channel_units.push((name.trim().to_string(), Unit::parse(unit)?));
+        opts.channel_units
+            .push((name.trim().to_string(), Unit::parse(unit)?));
     }
     Ok(())
 }
 
-pub fn welch_options(nperseg: usize, overlap: f64, window: &str, detrend: &str) -> Result<WelchOptions, Error> {
-    let o = WelchOptions { nperseg, overlap, window: Window::parse(window)?, detrend: Detrend::parse(detrend)? };
+pub fn welch_options(
+    nperseg: usize,
+    overlap: f64,
+    window: &str,
+    detrend: &str,
+) -> Result<WelchOptions, Error> {
+    let o = WelchOptions {
+        nperseg,
+        overlap,
+        window: Window::parse(window)?,
+        detrend: Detrend::parse(detrend)?,
+    };
     o.validate()?;
     Ok(o)
 }
@@ -93,30 +104,60 @@ fn csv_number(v: f64) -> String {
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
-    let mut ingest = IngestOptions { channels: args.channels.clone(), fs: args.fs, resample: args.resample, ..Default::default() };
+    let mut ingest = IngestOptions {
+        channels: args.channels.clone(),
+        fs: args.fs,
+        resample: args.resample,
+        ..Default::default()
+    };
     parse_units(args.units.as_deref(), &mut ingest)?;
     let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
     let res = psd_of_file(&args.log, &ingest, &wopts)?;
-    let spec = ToleranceSpec { alarm_db: args.alarm_db, abort_db: args.abort_db, grms_pct: args.grms_pct };
+    let spec = ToleranceSpec {
+        alarm_db: args.alarm_db,
+        abort_db: args.abort_db,
+        grms_pct: args.grms_pct,
+    };
     let tolerance = match &args.profile {
         Some(path) => {
             let profile = read_profile(path)?;
             let ch = match &args.control {
-                Some(name) => res.channels.iter().find(|c| &c.name == name).ok_or_else(|| {
-                    Error::Other(format!(
-                        "--control `{name}`: no such channel (available: {})",
-                        res.channels.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", ")
-                    ))
-                })?,
-                None => res.channels.first().ok_or_else(|| Error::Other("no channel".into()))?,
+                Some(name) => res
+                    .channels
+                    .iter()
+                    .find(|c| &c.name == name)
+                    .ok_or_else(|| {
+                        Error::Other(format!(
+                            "--control `{name}`: no such channel (available: {})",
+                            res.channels
+                                .iter()
+                                .map(|c| c.name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ))
+                    })?,
+                None => res
+                    .channels
+                    .first()
+                    .ok_or_else(|| Error::Other("no channel".into()))?,
             };
-            Some((ch.name.clone(), tolerance_bands(&ch.psd.frequencies(), &ch.psd.values, &profile, &spec)?))
+            Some((
+                ch.name.clone(),
+                tolerance_bands(&ch.psd.frequencies(), &ch.psd.values, &profile, &spec)?,
+            ))
         }
         None => None,
     };
-    let first = res.channels.first().ok_or_else(|| Error::Other("no channel".into()))?;
+    let first = res
+        .channels
+        .first()
+        .ok_or_else(|| Error::Other("no channel".into()))?;
     let df = first.psd.df;
-    let peak_opts = PeakOptions { max_peaks: args.peaks, f_min_hz: df, ..Default::default() };
+    let peak_opts = PeakOptions {
+        max_peaks: args.peaks,
+        f_min_hz: df,
+        ..Default::default()
+    };
     let mut channels_json = Vec::new();
     let mut human = vec![format!(
         "{}: {} channel(s), fs {:.6} Hz, {}",
@@ -143,7 +184,11 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             c.grms,
             c.unit,
             c.rms.map_or("-".into(), |r| format!("{r:.6}")),
-            peaks.iter().map(|p| format!("{:.2} Hz", p.frequency_hz)).collect::<Vec<_>>().join(", ")
+            peaks
+                .iter()
+                .map(|p| format!("{:.2} Hz", p.frequency_hz))
+                .collect::<Vec<_>>()
+                .join(", ")
         ));
         channels_json.push(json!({
             "name": c.name,
@@ -196,15 +241,24 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     });
     if let Some(dir) = &args.out {
         write_outputs(dir, &res)?;
-        human.push(format!("  wrote {}/psd.csv, third_octave.csv, psd.svg", dir.display()));
+        human.push(format!(
+            "  wrote {}/psd.csv, third_octave.csv, psd.svg",
+            dir.display()
+        ));
     }
     p.human(&human.join("\n"));
     p.json(&out_json)?;
-    Ok(if pass { Outcome::Pass } else { Outcome::GateFailed })
+    Ok(if pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
 }
 
 fn write_outputs(dir: &std::path::Path, res: &satqual::signal::LogPsd) -> Result<(), Error> {
-    let Some(first) = res.channels.first() else { return Ok(()) };
+    let Some(first) = res.channels.first() else {
+        return Ok(());
+    };
     let f = first.psd.frequencies();
     let mut csv = String::from("frequency_hz");
     for c in &res.channels {
@@ -215,7 +269,9 @@ fn write_outputs(dir: &std::path::Path, res: &satqual::signal::LogPsd) -> Result
         csv.push_str(&csv_number(*fk));
         for c in &res.channels {
             csv.push(',');
-            csv.push_str(&csv_number(c.psd.values.get(k).copied().unwrap_or(f64::NAN)));
+            csv.push_str(&csv_number(
+                c.psd.values.get(k).copied().unwrap_or(f64::NAN),
+            ));
         }
         csv.push('\n');
     }
@@ -223,18 +279,41 @@ fn write_outputs(dir: &std::path::Path, res: &satqual::signal::LogPsd) -> Result
     let mut bands = String::from("channel,center_hz,lower_hz,upper_hz,rms\n");
     for c in &res.channels {
         for b in octave_bands(&f, &c.psd.values, 3) {
-            bands.push_str(&format!("{},{:.6},{:.6},{:.6},{}\n", c.name, b.center_hz, b.lower_hz, b.upper_hz, csv_number(b.rms)));
+            bands.push_str(&format!(
+                "{},{:.6},{:.6},{:.6},{}\n",
+                c.name,
+                b.center_hz,
+                b.lower_hz,
+                b.upper_hz,
+                csv_number(b.rms)
+            ));
         }
     }
     write_atomic(&dir.join("third_octave.csv"), bands.as_bytes())?;
-    let pts: Vec<Vec<(f64, f64)>> = res.channels.iter().map(|c| f.iter().copied().zip(c.psd.values.iter().copied()).collect()).collect();
+    let pts: Vec<Vec<(f64, f64)>> = res
+        .channels
+        .iter()
+        .map(|c| {
+            f.iter()
+                .copied()
+                .zip(c.psd.values.iter().copied())
+                .collect()
+        })
+        .collect();
     let series: Vec<Series> = res
         .channels
         .iter()
         .zip(&pts)
-        .map(|(c, p)| Series { label: format!("{} (Grms {:.4} {})", c.name, c.grms, c.unit), points: p })
+        .map(|(c, p)| Series {
+            label: format!("{} (Grms {:.4} {})", c.name, c.grms, c.unit),
+            points: p,
+        })
         .collect();
-    let unit = if res.channels.iter().all(|c| c.unit == "g") { "g²/Hz" } else { "unit²/Hz" };
+    let unit = if res.channels.iter().all(|c| c.unit == "g") {
+        "g²/Hz"
+    } else {
+        "unit²/Hz"
+    };
     let svg = loglog_svg("PSD", "frequency [Hz]", &format!("PSD [{unit}]"), &series)?;
     write_atomic(&dir.join("psd.svg"), svg.as_bytes())?;
     Ok(())

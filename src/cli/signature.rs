@@ -63,10 +63,31 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         db_per_decade: 20.0,
     };
     let u = args.units.as_deref();
-    let before = compute(std::slice::from_ref(&args.before), &args.input, &args.output, args.fs, u, false, &wopts, &peaks)?;
+    let before = compute(
+        std::slice::from_ref(&args.before),
+        &args.input,
+        &args.output,
+        args.fs,
+        u,
+        false,
+        &wopts,
+        &peaks,
+    )?;
     // After the test, look for more peaks than modes so a weakened mode is still found.
-    let after_peaks = PeakOptions { max_peaks: args.modes * 2, ..peaks.clone() };
-    let after = compute(std::slice::from_ref(&args.after), &args.input, &args.output, args.fs, u, false, &wopts, &after_peaks)?;
+    let after_peaks = PeakOptions {
+        max_peaks: args.modes * 2,
+        ..peaks.clone()
+    };
+    let after = compute(
+        std::slice::from_ref(&args.after),
+        &args.input,
+        &args.output,
+        args.fs,
+        u,
+        false,
+        &wopts,
+        &after_peaks,
+    )?;
     let crit = SignatureCriteria {
         max_shift_pct: args.max_shift_pct,
         max_amp_change_pct: args.max_amp_change_pct,
@@ -85,14 +106,21 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             "  mode {}: {:.2} Hz -> {}  shift {}  amplitude {}  {}",
             m.mode,
             m.before_hz,
-            m.after_hz.map_or("missing".into(), |f| format!("{f:.2} Hz")),
+            m.after_hz
+                .map_or("missing".into(), |f| format!("{f:.2} Hz")),
             m.shift_pct.map_or("-".into(), |s| format!("{s:+.2}%")),
-            m.amplitude_change_pct.map_or("-".into(), |s| format!("{s:+.2}%")),
-            if m.pass { "ok".to_string() } else { format!("FAIL: {}", m.reason) }
+            m.amplitude_change_pct
+                .map_or("-".into(), |s| format!("{s:+.2}%")),
+            if m.pass {
+                "ok".to_string()
+            } else {
+                format!("FAIL: {}", m.reason)
+            }
         ));
     }
     if rep.modes.is_empty() {
-        human.push("  no resonance found in the before-signature: nothing to compare (FAIL)".into());
+        human
+            .push("  no resonance found in the before-signature: nothing to compare (FAIL)".into());
     }
     p.human(&human.join("\n"));
     p.json(&json!({
@@ -110,5 +138,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "after_peaks": after.resonances.iter().map(super::frf::peak_json).collect::<Vec<_>>(),
         "pass": rep.pass,
     }))?;
-    Ok(if rep.pass { Outcome::Pass } else { Outcome::GateFailed })
+    Ok(if rep.pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
 }

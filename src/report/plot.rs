@@ -45,7 +45,11 @@ fn range(series: &[Series], pick: impl Fn(&(f64, f64)) -> f64, scale: Scale) -> 
         }
     }
     if !lo.is_finite() {
-        return if scale == Scale::Log { (1e-3, 1.0) } else { (0.0, 1.0) };
+        return if scale == Scale::Log {
+            (1e-3, 1.0)
+        } else {
+            (0.0, 1.0)
+        };
     }
     match scale {
         Scale::Log => {
@@ -80,7 +84,11 @@ pub fn lines_svg(
         let (x0, x1) = range(series, |p| p.0, x_scale);
         let (y0, y1) = range(series, |p| p.1, y_scale);
         let mut builder = ChartBuilder::on(&root);
-        builder.caption(title, ("sans-serif", 20)).margin(12).x_label_area_size(45).y_label_area_size(80);
+        builder
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(80);
         let keep = |p: &&(f64, f64)| {
             p.0.is_finite()
                 && p.1.is_finite()
@@ -100,10 +108,15 @@ pub fn lines_svg(
                 for (i, s) in series.iter().enumerate() {
                     let c = COLORS[i % COLORS.len()];
                     chart
-                        .draw_series(LineSeries::new(s.points.iter().filter(keep).copied(), c.stroke_width(1)))
+                        .draw_series(LineSeries::new(
+                            s.points.iter().filter(keep).copied(),
+                            c.stroke_width(1),
+                        ))
                         .map_err(plot_err)?
                         .label(s.label.clone())
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                        });
                 }
                 chart
                     .configure_series_labels()
@@ -116,15 +129,31 @@ pub fn lines_svg(
         }
         match (x_scale, y_scale) {
             (Scale::Log, Scale::Log) => {
-                draw!(builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale()).map_err(plot_err)?)
+                draw!(
+                    builder
+                        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                        .map_err(plot_err)?
+                )
             }
             (Scale::Log, Scale::Linear) => {
-                draw!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1).map_err(plot_err)?)
+                draw!(
+                    builder
+                        .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                        .map_err(plot_err)?
+                )
             }
             (Scale::Linear, Scale::Log) => {
-                draw!(builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(plot_err)?)
+                draw!(
+                    builder
+                        .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                        .map_err(plot_err)?
+                )
             }
-            (Scale::Linear, Scale::Linear) => draw!(builder.build_cartesian_2d(x0..x1, y0..y1).map_err(plot_err)?),
+            (Scale::Linear, Scale::Linear) => draw!(
+                builder
+                    .build_cartesian_2d(x0..x1, y0..y1)
+                    .map_err(plot_err)?
+            ),
         }
         root.present().map_err(plot_err)?;
     }
@@ -132,6 +161,11 @@ pub fn lines_svg(
 }
 
 /// Log-log line plot (PSDs: put the Grms in each series label).
-pub fn loglog_svg(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<String, Error> {
+pub fn loglog_svg(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+) -> Result<String, Error> {
     lines_svg(title, x_label, y_label, series, Scale::Log, Scale::Log)
 }

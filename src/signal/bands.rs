@@ -65,7 +65,12 @@ pub fn octave_bands(freqs: &[f64], values: &[f64], per_octave: u32) -> Vec<Band>
         let fc = 1000.0 * 10f64.powf(3.0 * f64::from(k) / (10.0 * b));
         let (lo, hi) = (fc / half, fc * half);
         if lo >= f_first && hi <= f_last {
-            out.push(Band { center_hz: fc, lower_hz: lo, upper_hz: hi, rms: band_rms(freqs, values, lo, hi) });
+            out.push(Band {
+                center_hz: fc,
+                lower_hz: lo,
+                upper_hz: hi,
+                rms: band_rms(freqs, values, lo, hi),
+            });
         }
     }
     out
@@ -82,7 +87,11 @@ pub struct ToleranceSpec {
 
 impl Default for ToleranceSpec {
     fn default() -> Self {
-        ToleranceSpec { alarm_db: 3.0, abort_db: 6.0, grms_pct: 10.0 }
+        ToleranceSpec {
+            alarm_db: 3.0,
+            abort_db: 6.0,
+            grms_pct: 10.0,
+        }
     }
 }
 
@@ -140,7 +149,11 @@ pub fn tolerance_bands(
         }
         checked += 1;
         // A zero measured line is as far below as a float allows; −300 dB stands for it.
-        let d = if v > 0.0 { 10.0 * (v / r).log10() } else { -300.0 };
+        let d = if v > 0.0 {
+            10.0 * (v / r).log10()
+        } else {
+            -300.0
+        };
         if d.abs() > spec.alarm_db {
             alarm += 1;
         }
@@ -184,11 +197,16 @@ pub fn tolerance_bands(
 
 fn validate_profile(profile: &[(f64, f64)]) -> Result<(), SignalError> {
     if profile.len() < 2 {
-        return Err(SignalError::Invalid("a profile needs at least two [f_hz, g2_hz] points".into()));
+        return Err(SignalError::Invalid(
+            "a profile needs at least two [f_hz, g2_hz] points".into(),
+        ));
     }
     for (i, w) in profile.windows(2).enumerate() {
-        if !(w[1].0 > w[0].0) {
-            return Err(SignalError::Invalid(format!("profile point {}: frequencies must increase", i + 2)));
+        if w[1].0.partial_cmp(&w[0].0) != Some(std::cmp::Ordering::Greater) {
+            return Err(SignalError::Invalid(format!(
+                "profile point {}: frequencies must increase",
+                i + 2
+            )));
         }
     }
     for (i, p) in profile.iter().enumerate() {
@@ -235,7 +253,8 @@ pub fn read_profile(path: &Path) -> Result<Vec<(f64, f64)>, SignalError> {
             .enumerate()
             .map(|(i, p)| {
                 let a = p.as_array().filter(|a| a.len() == 2);
-                let num = |x: &toml::Value| x.as_float().or_else(|| x.as_integer().map(|i| i as f64));
+                let num =
+                    |x: &toml::Value| x.as_float().or_else(|| x.as_integer().map(|i| i as f64));
                 match a.and_then(|a| Some((num(&a[0])?, num(&a[1])?))) {
                     Some(pt) => Ok(pt),
                     None => Err(bad(i + 1, format!("point {} is not [f_hz, g2_hz]", i + 1))),
@@ -256,6 +275,9 @@ pub fn read_profile(path: &Path) -> Result<Vec<(f64, f64)>, SignalError> {
         }
         v
     };
-    validate_profile(&pts).map_err(|e| SignalError::Unsupported { file: path.to_path_buf(), message: e.to_string() })?;
+    validate_profile(&pts).map_err(|e| SignalError::Unsupported {
+        file: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
     Ok(pts)
 }

@@ -32,7 +32,11 @@ impl Frf {
     }
 
     pub fn h2(&self) -> Vec<Complex64> {
-        self.gyy.iter().zip(&self.gxy).map(|(y, g)| y / g.conj()).collect()
+        self.gyy
+            .iter()
+            .zip(&self.gxy)
+            .map(|(y, g)| y / g.conj())
+            .collect()
     }
 
     pub fn coherence(&self) -> Vec<f64> {
@@ -41,7 +45,11 @@ impl Frf {
             .zip(self.gxx.iter().zip(&self.gyy))
             .map(|(g, (x, y))| {
                 let d = x * y;
-                if d > 0.0 { (g.norm_sqr() / d).min(1.0) } else { 0.0 }
+                if d > 0.0 {
+                    (g.norm_sqr() / d).min(1.0)
+                } else {
+                    0.0
+                }
             })
             .collect()
     }
@@ -75,9 +83,18 @@ pub fn frf(records: &[(&[f64], &[f64])], fs: f64, opts: &WelchOptions) -> Result
             }
             Some(a) => {
                 a.segments += r.cross[0].segments;
-                a.gxx.iter_mut().zip(&r.auto[0].values).for_each(|(s, v)| *s += v * k);
-                a.gyy.iter_mut().zip(&r.auto[1].values).for_each(|(s, v)| *s += v * k);
-                a.gxy.iter_mut().zip(&r.cross[0].values).for_each(|(s, v)| *s += v * k);
+                a.gxx
+                    .iter_mut()
+                    .zip(&r.auto[0].values)
+                    .for_each(|(s, v)| *s += v * k);
+                a.gyy
+                    .iter_mut()
+                    .zip(&r.auto[1].values)
+                    .for_each(|(s, v)| *s += v * k);
+                a.gxy
+                    .iter_mut()
+                    .zip(&r.cross[0].values)
+                    .for_each(|(s, v)| *s += v * k);
             }
         }
     }
@@ -105,13 +122,22 @@ pub struct Resonance {
 
 /// Resonances on the magnitude of `h` (e.g. [`Frf::h1`]), strongest `opts.max_peaks` of those
 /// with the required prominence (20 dB per decade is forced: |H| is an amplitude).
-pub fn resonances(freqs: &[f64], h: &[Complex64], coherence: &[f64], opts: &PeakOptions) -> Vec<Resonance> {
+pub fn resonances(
+    freqs: &[f64],
+    h: &[Complex64],
+    coherence: &[f64],
+    opts: &PeakOptions,
+) -> Vec<Resonance> {
     let mag: Vec<f64> = h.iter().map(|z| z.norm()).collect();
-    let o = PeakOptions { db_per_decade: 20.0, ..opts.clone() };
+    let o = PeakOptions {
+        db_per_decade: 20.0,
+        ..opts.clone()
+    };
     find_peaks(freqs, &mag, &o)
         .into_iter()
         .map(|p| {
-            let q = half_power_band(freqs, &mag, p.line, p.value).map(|(lo, hi)| p.frequency_hz / (hi - lo));
+            let q = half_power_band(freqs, &mag, p.line, p.value)
+                .map(|(lo, hi)| p.frequency_hz / (hi - lo));
             Resonance {
                 frequency_hz: p.frequency_hz,
                 magnitude: p.value,
@@ -135,22 +161,35 @@ pub fn frf_of_files(
 ) -> Result<Frf, SignalError> {
     let mut ing = ingest.clone();
     ing.channels = Some(vec![input.to_string(), output.to_string()]);
-    let logs: Vec<super::ingest::Log> =
-        paths.iter().map(|p| super::ingest::read_csv(p, &ing)).collect::<Result<_, _>>()?;
-    let fs = logs.first().map(|l| l.info.fs_hz).ok_or_else(|| SignalError::Invalid("no log given".into()))?;
+    let logs: Vec<super::ingest::Log> = paths
+        .iter()
+        .map(|p| super::ingest::read_csv(p, &ing))
+        .collect::<Result<_, _>>()?;
+    let fs = logs
+        .first()
+        .map(|l| l.info.fs_hz)
+        .ok_or_else(|| SignalError::Invalid("no log given".into()))?;
     for l in &logs {
         if (l.info.fs_hz - fs).abs() > 1e-6 * fs {
             return Err(SignalError::Unsupported {
                 file: l.info.file.clone(),
-                message: format!("sampling rate {} Hz differs from {} Hz of the first log", l.info.fs_hz, fs),
+                message: format!(
+                    "sampling rate {} Hz differs from {} Hz of the first log",
+                    l.info.fs_hz, fs
+                ),
             });
         }
     }
-    let records: Vec<(&[f64], &[f64])> = logs.iter().map(|l| (l.data[0].as_slice(), l.data[1].as_slice())).collect();
+    let records: Vec<(&[f64], &[f64])> = logs
+        .iter()
+        .map(|l| (l.data[0].as_slice(), l.data[1].as_slice()))
+        .collect();
     frf(&records, fs, opts).map_err(|e| match e {
-        SignalError::SegmentTooLong { nperseg, len, .. } => {
-            SignalError::SegmentTooLong { nperseg, len, channel: format!("{input} of {}", paths[0].display()) }
-        }
+        SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
+            nperseg,
+            len,
+            channel: format!("{input} of {}", paths[0].display()),
+        },
         o => o,
     })
 }

@@ -45,7 +45,12 @@ impl Unit {
         let n = name.trim().to_ascii_lowercase();
         if n.ends_with("_g") || n.ends_with("[g]") || n.ends_with("(g)") || n == "g" {
             Some(Unit::G)
-        } else if ["m/s2", "m/s^2", "m/s²", "_m_s2", "_ms2", "mps2"].iter().any(|s| n.ends_with(s) || n.ends_with(&format!("{s}]")) || n.ends_with(&format!("{s})"))) {
+        } else if ["m/s2", "m/s^2", "m/s²", "_m_s2", "_ms2", "mps2"]
+            .iter()
+            .any(|s| {
+                n.ends_with(s) || n.ends_with(&format!("{s}]")) || n.ends_with(&format!("{s})"))
+            })
+        {
             Some(Unit::MPerS2)
         } else {
             None
@@ -160,7 +165,13 @@ impl Log {
             .ok_or_else(|| SignalError::NoSuchChannel {
                 file: self.info.file.clone(),
                 name: name.to_string(),
-                available: self.info.channels.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", "),
+                available: self
+                    .info
+                    .channels
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
             })
     }
 }
@@ -169,7 +180,10 @@ impl Log {
 pub fn is_time_column(name: &str) -> bool {
     let n = name.trim().to_ascii_lowercase();
     let base = n.split(['[', '(', ' ']).next().unwrap_or("");
-    matches!(base, "t" | "t_s" | "time" | "time_s" | "times" | "timestamp" | "x_value" | "seconds" | "sec")
+    matches!(
+        base,
+        "t" | "t_s" | "time" | "time_s" | "times" | "timestamp" | "x_value" | "seconds" | "sec"
+    )
 }
 
 /// Reads the first bytes to refuse binary files before the CSV parser sees them.
@@ -186,23 +200,39 @@ fn sniff(path: &Path) -> Result<(), SignalError> {
     }
     buf.truncate(got);
     if buf.iter().all(|b| b.is_ascii_whitespace()) {
-        return Err(SignalError::EmptyFile { file: path.to_path_buf() });
+        return Err(SignalError::EmptyFile {
+            file: path.to_path_buf(),
+        });
     }
-    if let Some(offset) = buf.iter().position(|&b| b == 0 || (b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t'))) {
-        return Err(SignalError::BinaryFile { file: path.to_path_buf(), offset, byte: buf[offset] });
+    if let Some(offset) = buf
+        .iter()
+        .position(|&b| b == 0 || (b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t')))
+    {
+        return Err(SignalError::BinaryFile {
+            file: path.to_path_buf(),
+            offset,
+            byte: buf[offset],
+        });
     }
     if let Err(e) = std::str::from_utf8(&buf) {
         // A multi-byte character cut by the 8 KiB sniff window is not binary content.
         if e.error_len().is_some() {
             let offset = e.valid_up_to();
-            return Err(SignalError::BinaryFile { file: path.to_path_buf(), offset, byte: buf[offset] });
+            return Err(SignalError::BinaryFile {
+                file: path.to_path_buf(),
+                offset,
+                byte: buf[offset],
+            });
         }
     }
     Ok(())
 }
 
 fn io_error(path: &Path, e: std::io::Error) -> SignalError {
-    SignalError::Unsupported { file: path.to_path_buf(), message: format!("cannot read: {e}") }
+    SignalError::Unsupported {
+        file: path.to_path_buf(),
+        message: format!("cannot read: {e}"),
+    }
 }
 
 fn parse_cell(bytes: &[u8]) -> Option<f64> {
@@ -223,30 +253,56 @@ fn bad_cell(file: &Path, line: u64, column: &str, bytes: &[u8]) -> SignalError {
     } else {
         "cannot parse number"
     };
-    SignalError::BadCell { file: file.to_path_buf(), line, column: column.to_string(), text, what }
+    SignalError::BadCell {
+        file: file.to_path_buf(),
+        line,
+        column: column.to_string(),
+        text,
+        what,
+    }
 }
 
 /// Streams a CSV log: calls `sink` with one row of the selected channels (converted to their
 /// reported unit) per uniform sample, and returns the log's description.
-pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64])) -> Result<LogInfo, SignalError> {
+pub fn stream_csv(
+    path: &Path,
+    opts: &IngestOptions,
+    mut sink: impl FnMut(&[f64]),
+) -> Result<LogInfo, SignalError> {
     sniff(path)?;
     let file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
     let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
     let fpath = path.to_path_buf();
     // The header line goes through the csv crate (quoted names); rows go through `Rows`.
     let mut header_line = Vec::new();
-    std::io::BufRead::read_until(&mut reader, b'\n', &mut header_line).map_err(|e| io_error(path, e))?;
+    std::io::BufRead::read_until(&mut reader, b'\n', &mut header_line)
+        .map_err(|e| io_error(path, e))?;
     let mut record = csv::ByteRecord::new();
-    let mut hr = csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(&header_line[..]);
-    if !hr.read_byte_record(&mut record).map_err(|e| SignalError::BadHeader { file: fpath.clone(), message: e.to_string() })? {
-        return Err(SignalError::EmptyFile { file: fpath.clone() });
+    let mut hr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(&header_line[..]);
+    if !hr
+        .read_byte_record(&mut record)
+        .map_err(|e| SignalError::BadHeader {
+            file: fpath.clone(),
+            message: e.to_string(),
+        })?
+    {
+        return Err(SignalError::EmptyFile {
+            file: fpath.clone(),
+        });
     }
     let header: Vec<String> = record
         .iter()
         .enumerate()
         .map(|(i, b)| {
             let s = String::from_utf8_lossy(b).trim().to_string();
-            if i == 0 { s.trim_start_matches('\u{feff}').to_string() } else { s }
+            if i == 0 {
+                s.trim_start_matches('\u{feff}').to_string()
+            } else {
+                s
+            }
         })
         .collect();
     for (i, h) in header.iter().enumerate() {
@@ -257,23 +313,36 @@ pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64]
             });
         }
         if header[..i].contains(h) {
-            return Err(SignalError::BadHeader { file: fpath.clone(), message: format!("channel name `{h}` appears twice") });
+            return Err(SignalError::BadHeader {
+                file: fpath.clone(),
+                message: format!("channel name `{h}` appears twice"),
+            });
         }
     }
     let time_col = header.iter().position(|h| is_time_column(h));
-    let available: Vec<&String> =
-        header.iter().enumerate().filter(|(i, _)| Some(*i) != time_col).map(|(_, h)| h).collect();
+    let available: Vec<&String> = header
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| Some(*i) != time_col)
+        .map(|(_, h)| h)
+        .collect();
     let selected: Vec<usize> = match &opts.channels {
         Some(list) => {
             let mut v = Vec::new();
             for name in list {
-                let i = header.iter().position(|h| h == name).filter(|i| Some(*i) != time_col).ok_or_else(|| {
-                    SignalError::NoSuchChannel {
+                let i = header
+                    .iter()
+                    .position(|h| h == name)
+                    .filter(|i| Some(*i) != time_col)
+                    .ok_or_else(|| SignalError::NoSuchChannel {
                         file: fpath.clone(),
                         name: name.clone(),
-                        available: available.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", "),
-                    }
-                })?;
+                        available: available
+                            .iter()
+                            .map(|s| s.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })?;
                 v.push(i);
             }
             v
@@ -287,24 +356,38 @@ pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64]
                 "no data channel: the only column{} `{}` {}",
                 if header.len() > 1 { "s" } else { "" },
                 header.join(","),
-                if time_col.is_some() { "is a time column" } else { "holds no channel" }
+                if time_col.is_some() {
+                    "is a time column"
+                } else {
+                    "holds no channel"
+                }
             ),
         });
     }
     if time_col.is_none() && opts.fs.is_none() {
-        return Err(SignalError::NoSamplingRate { file: fpath.clone() });
+        return Err(SignalError::NoSamplingRate {
+            file: fpath.clone(),
+        });
     }
     if let Some(fs) = opts.fs
         && !(fs.is_finite() && fs > 0.0)
     {
-        return Err(SignalError::BadParameter { name: "fs", value: fs.to_string(), reason: "must be positive".into() });
+        return Err(SignalError::BadParameter {
+            name: "fs",
+            value: fs.to_string(),
+            reason: "must be positive".into(),
+        });
     }
     for (name, _) in &opts.channel_units {
         if !header.contains(name) {
             return Err(SignalError::NoSuchChannel {
                 file: fpath.clone(),
                 name: name.clone(),
-                available: available.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", "),
+                available: available
+                    .iter()
+                    .map(|s| s.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
             });
         }
     }
@@ -312,16 +395,22 @@ pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64]
         .iter()
         .map(|&i| {
             let name = header[i].clone();
-            let (unit, unit_source) = if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
-                (*u, UnitSource::Option)
-            } else if let Some(u) = Unit::from_name(&name) {
-                (u, UnitSource::Name)
-            } else if let Some(u) = opts.default_unit {
-                (u, UnitSource::Option)
-            } else {
-                (Unit::AsIs, UnitSource::Default)
-            };
-            ChannelInfo { name, unit, unit_source, column: i }
+            let (unit, unit_source) =
+                if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
+                    (*u, UnitSource::Option)
+                } else if let Some(u) = Unit::from_name(&name) {
+                    (u, UnitSource::Name)
+                } else if let Some(u) = opts.default_unit {
+                    (u, UnitSource::Option)
+                } else {
+                    (Unit::AsIs, UnitSource::Default)
+                };
+            ChannelInfo {
+                name,
+                unit,
+                unit_source,
+                column: i,
+            }
         })
         .collect();
     let factors: Vec<f64> = channels.iter().map(|c| c.unit.to_report_factor()).collect();
@@ -335,7 +424,12 @@ pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64]
     for (k, &c) in selected.iter().enumerate() {
         slots[c] = Some((off + k, factors[k]));
     }
-    let layout = RowLayout { file: fpath.clone(), header: header.clone(), slots, width: off + selected.len() };
+    let layout = RowLayout {
+        file: fpath.clone(),
+        header: header.clone(),
+        slots,
+        width: off + selected.len(),
+    };
     let mut rows: u64 = 0;
     let mut timing = Timing::new(opts, fpath.clone());
     let mut feed = |vals: &[f64], lines: &[u64]| -> Result<(), SignalError> {
@@ -352,10 +446,14 @@ pub fn stream_csv(path: &Path, opts: &IngestOptions, mut sink: impl FnMut(&[f64]
     };
     // Small files get a buffer of their own size, not a whole block.
     let size = std::fs::metadata(path).map_or(BLOCK_BYTES as u64, |m| m.len());
-    let block = (size as usize).saturating_add(1).clamp(1 << 12, BLOCK_BYTES);
+    let block = (size as usize)
+        .saturating_add(1)
+        .clamp(1 << 12, BLOCK_BYTES);
     read_rows(&mut reader, &layout, block, &mut feed)?;
     if rows == 0 {
-        return Err(SignalError::HeaderOnly { file: fpath.clone() });
+        return Err(SignalError::HeaderOnly {
+            file: fpath.clone(),
+        });
     }
     let (fs_hz, samples, resampled) = match time_col {
         Some(_) => timing.finish(&mut sink)?,
@@ -392,7 +490,12 @@ struct Parsed {
 
 /// Parses one line (no newline) into `out`; `Ok(false)` for a blank line. One pass over the
 /// bytes: fields are cut at commas as they come, and only the needed ones are parsed.
-fn parse_line(line: &[u8], line_no: u64, l: &RowLayout, out: &mut Vec<f64>) -> Result<bool, SignalError> {
+fn parse_line(
+    line: &[u8],
+    line_no: u64,
+    l: &RowLayout,
+    out: &mut Vec<f64>,
+) -> Result<bool, SignalError> {
     let line = line.strip_suffix(b"\r").unwrap_or(line);
     if line.is_empty() {
         return Ok(false);
@@ -404,7 +507,10 @@ fn parse_line(line: &[u8], line_no: u64, l: &RowLayout, out: &mut Vec<f64>) -> R
     let mut start = 0usize;
     let mut bad: Option<(usize, usize, usize)> = None;
     loop {
-        let end = line[start..].iter().position(|&b| b == b',').map_or(line.len(), |p| start + p);
+        let end = line[start..]
+            .iter()
+            .position(|&b| b == b',')
+            .map_or(line.len(), |p| start + p);
         if c < ncols
             && let Some((k, factor)) = l.slots[c]
         {
@@ -429,7 +535,12 @@ fn parse_line(line: &[u8], line_no: u64, l: &RowLayout, out: &mut Vec<f64>) -> R
         if c == 1 && line.trim_ascii().is_empty() {
             return Ok(false);
         }
-        return Err(SignalError::RaggedRow { file: l.file.clone(), line: line_no, expected: ncols, found: c });
+        return Err(SignalError::RaggedRow {
+            file: l.file.clone(),
+            line: line_no,
+            expected: ncols,
+            found: c,
+        });
     }
     if let Some((col, a, b)) = bad {
         out.truncate(base);
@@ -443,7 +554,11 @@ fn parse_line(line: &[u8], line_no: u64, l: &RowLayout, out: &mut Vec<f64>) -> R
 
 /// Parses the lines of `chunk`, the first being line `first_line` of the file.
 fn parse_chunk(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
-    let mut p = Parsed { vals: Vec::with_capacity(chunk.len() / 8), lines: Vec::with_capacity(chunk.len() / 24), err: None };
+    let mut p = Parsed {
+        vals: Vec::with_capacity(chunk.len() / 8),
+        lines: Vec::with_capacity(chunk.len() / 24),
+        err: None,
+    };
     for (i, line) in chunk.split(|&b| b == b'\n').enumerate() {
         let n = first_line + i as u64;
         match parse_line(line, n, l, &mut p.vals) {
@@ -463,14 +578,20 @@ fn parse_chunk(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
 /// common case for numeric logs, are split on commas directly.
 fn parse_quoted(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
     let mut p = Parsed::default();
-    let mut rdr = csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(chunk);
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(chunk);
     let mut rec = csv::ByteRecord::new();
     loop {
         match rdr.read_byte_record(&mut rec) {
             Ok(false) => break,
             Ok(true) => {}
             Err(e) => {
-                p.err = Some(SignalError::Unsupported { file: l.file.clone(), message: e.to_string() });
+                p.err = Some(SignalError::Unsupported {
+                    file: l.file.clone(),
+                    message: e.to_string(),
+                });
                 break;
             }
         }
@@ -479,7 +600,12 @@ fn parse_quoted(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
             continue;
         }
         if rec.len() != l.slots.len() {
-            p.err = Some(SignalError::RaggedRow { file: l.file.clone(), line: n, expected: l.slots.len(), found: rec.len() });
+            p.err = Some(SignalError::RaggedRow {
+                file: l.file.clone(),
+                line: n,
+                expected: l.slots.len(),
+                found: rec.len(),
+            });
             break;
         }
         let base = p.vals.len();
@@ -524,7 +650,9 @@ fn read_rows(
         buf.resize(have + block, 0);
         let mut got = 0;
         while have + got < buf.len() {
-            let n = reader.read(&mut buf[have + got..]).map_err(|e| io_error(&l.file, e))?;
+            let n = reader
+                .read(&mut buf[have + got..])
+                .map_err(|e| io_error(&l.file, e))?;
             if n == 0 {
                 break;
             }
@@ -543,7 +671,9 @@ fn read_rows(
                 None if buf.len() > MAX_LINE_BYTES => {
                     return Err(SignalError::Unsupported {
                         file: l.file.clone(),
-                        message: format!("line {next_line} is longer than {MAX_LINE_BYTES} bytes: not a log"),
+                        message: format!(
+                            "line {next_line} is longer than {MAX_LINE_BYTES} bytes: not a log"
+                        ),
                     });
                 }
                 None => {
@@ -570,7 +700,10 @@ fn read_rows(
         bounds.push(body.len() + 1);
         bounds.dedup();
         let spans: Vec<(usize, usize)> = bounds.windows(2).map(|w| (w[0], w[1] - 1)).collect();
-        let counts: Vec<u64> = spans.par_iter().map(|&(a, b)| body[a..b].iter().filter(|&&c| c == b'\n').count() as u64 + 1).collect();
+        let counts: Vec<u64> = spans
+            .par_iter()
+            .map(|&(a, b)| body[a..b].iter().filter(|&&c| c == b'\n').count() as u64 + 1)
+            .collect();
         let mut starts = Vec::with_capacity(spans.len());
         let mut line = next_line;
         for c in &counts {
@@ -581,7 +714,11 @@ fn read_rows(
         let parsed: Vec<Parsed> = if quoted {
             vec![parse_quoted(body, next_line, l)]
         } else {
-            spans.par_iter().zip(&starts).map(|(&(a, b), &s)| parse_chunk(&body[a..b], s, l)).collect()
+            spans
+                .par_iter()
+                .zip(&starts)
+                .map(|(&(a, b), &s)| parse_chunk(&body[a..b], s, l))
+                .collect()
         };
         // Newlines in the block: those inside the pieces, the ones between them, and the last.
         next_line += counts.iter().sum::<u64>() - 1 + u64::from(buf.ends_with(b"\n"));
@@ -646,11 +783,22 @@ impl Timing {
         }
     }
 
-    fn push(&mut self, t: f64, line: u64, row: &[f64], sink: &mut impl FnMut(&[f64])) -> Result<(), SignalError> {
+    fn push(
+        &mut self,
+        t: f64,
+        line: u64,
+        row: &[f64],
+        sink: &mut impl FnMut(&[f64]),
+    ) -> Result<(), SignalError> {
         if let Some(pt) = self.primed.last().map(|p| p.0).or(self.prev)
             && t <= pt
         {
-            return Err(SignalError::NonMonotonicTime { file: self.file.clone(), line, time: t, previous: pt });
+            return Err(SignalError::NonMonotonicTime {
+                file: self.file.clone(),
+                line,
+                time: t,
+                previous: pt,
+            });
         }
         self.rows += 1;
         self.last_t = t;
@@ -673,7 +821,9 @@ impl Timing {
             None => steps.get(steps.len() / 2).copied().unwrap_or(1.0),
         };
         if !(self.dt.is_finite() && self.dt > 0.0) {
-            return Err(SignalError::NoSamplingRate { file: self.file.clone() });
+            return Err(SignalError::NoSamplingRate {
+                file: self.file.clone(),
+            });
         }
         self.t0 = primed.first().map_or(0.0, |p| p.0);
         for (t, line, row) in primed {
@@ -682,7 +832,13 @@ impl Timing {
         Ok(())
     }
 
-    fn accept(&mut self, t: f64, line: u64, row: &[f64], sink: &mut impl FnMut(&[f64])) -> Result<(), SignalError> {
+    fn accept(
+        &mut self,
+        t: f64,
+        line: u64,
+        row: &[f64],
+        sink: &mut impl FnMut(&[f64]),
+    ) -> Result<(), SignalError> {
         let Some(pt) = self.prev else {
             sink(row);
             self.emitted = 1;
@@ -705,8 +861,14 @@ impl Timing {
             }
             // Interpolating across a gap of many intervals would invent data (and a gap of
             // 1e9 intervals would never end): refuse it.
-            if !(step <= MAX_RESAMPLE_GAP * self.dt) {
-                return Err(SignalError::ResampleGap { file: self.file.clone(), line, dt: step, expected_dt: self.dt, max_steps: MAX_RESAMPLE_GAP });
+            if step.is_nan() || step > MAX_RESAMPLE_GAP * self.dt {
+                return Err(SignalError::ResampleGap {
+                    file: self.file.clone(),
+                    line,
+                    dt: step,
+                    expected_dt: self.dt,
+                    max_steps: MAX_RESAMPLE_GAP,
+                });
             }
             if self.irregular == 0 {
                 self.first_irregular = line;
@@ -723,7 +885,8 @@ impl Timing {
                 }
                 let a = ((tg - pt) / step).clamp(0.0, 1.0);
                 self.out.clear();
-                self.out.extend(self.prev_row.iter().zip(row).map(|(p, v)| p + a * (v - p)));
+                self.out
+                    .extend(self.prev_row.iter().zip(row).map(|(p, v)| p + a * (v - p)));
                 sink(&self.out);
                 self.emitted += 1;
             }
@@ -737,10 +900,15 @@ impl Timing {
         Ok(())
     }
 
-    fn finish(mut self, sink: &mut impl FnMut(&[f64])) -> Result<(f64, u64, Option<ResampleReport>), SignalError> {
+    fn finish(
+        mut self,
+        sink: &mut impl FnMut(&[f64]),
+    ) -> Result<(f64, u64, Option<ResampleReport>), SignalError> {
         if self.dt == 0.0 {
             if self.primed.len() < 2 && self.fs_option.is_none() {
-                return Err(SignalError::NoSamplingRate { file: self.file.clone() });
+                return Err(SignalError::NoSamplingRate {
+                    file: self.file.clone(),
+                });
             }
             self.start(sink)?;
         }
@@ -767,9 +935,11 @@ impl Timing {
             (self.rows - 1) as f64 / (self.last_t - self.t0)
         };
         if !(fs.is_finite() && fs > 0.0) {
-            return Err(SignalError::NoSamplingRate { file: self.file.clone() });
+            return Err(SignalError::NoSamplingRate {
+                file: self.file.clone(),
+            });
         }
-        let report = (self.resample && self.irregular > 0).then(|| ResampleReport {
+        let report = (self.resample && self.irregular > 0).then_some(ResampleReport {
             uniform_dt_s: self.dt,
             irregular_rows: self.irregular,
             first_irregular_line: self.first_irregular,

@@ -46,7 +46,11 @@ pub struct LogPsd {
 }
 
 /// Computes (or, for UFF PSD records, reads) the PSD of the selected channels of `path`.
-pub fn psd_of_file(path: &Path, ingest: &IngestOptions, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
+pub fn psd_of_file(
+    path: &Path,
+    ingest: &IngestOptions,
+    opts: &WelchOptions,
+) -> Result<LogPsd, SignalError> {
     opts.validate()?;
     if looks_like_uff(path) {
         return psd_of_uff(path, ingest, opts);
@@ -74,12 +78,18 @@ pub fn psd_of_file(path: &Path, ingest: &IngestOptions, opts: &WelchOptions) -> 
     if let Some(e) = init_err {
         return Err(e);
     }
-    let stream = stream.ok_or_else(|| SignalError::HeaderOnly { file: path.to_path_buf() })?;
+    let stream = stream.ok_or_else(|| SignalError::HeaderOnly {
+        file: path.to_path_buf(),
+    })?;
     let result = stream.finish(info.fs_hz).map_err(|e| match e {
         SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
             nperseg,
             len,
-            channel: format!("{} of {}", info.channels.first().map_or("", |c| c.name.as_str()), path.display()),
+            channel: format!(
+                "{} of {}",
+                info.channels.first().map_or("", |c| c.name.as_str()),
+                path.display()
+            ),
         },
         other => other,
     })?;
@@ -98,7 +108,12 @@ pub fn psd_of_file(path: &Path, ingest: &IngestOptions, opts: &WelchOptions) -> 
             samples: info.samples,
         })
         .collect();
-    Ok(LogPsd { source: PsdSource::CsvWelch, fs_hz: info.fs_hz, info: Some(info), channels })
+    Ok(LogPsd {
+        source: PsdSource::CsvWelch,
+        fs_hz: info.fs_hz,
+        info: Some(info),
+        channels,
+    })
 }
 
 fn uff_unit(label: &str, ingest: &IngestOptions, name: &str) -> Unit {
@@ -115,22 +130,42 @@ fn uff_unit(label: &str, ingest: &IngestOptions, name: &str) -> Unit {
     }
 }
 
-fn psd_of_uff(path: &Path, ingest: &IngestOptions, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
+fn psd_of_uff(
+    path: &Path,
+    ingest: &IngestOptions,
+    opts: &WelchOptions,
+) -> Result<LogPsd, SignalError> {
     let records = read_uff58(path)?;
     let named: Vec<(String, &super::uff::UffRecord)> = records
         .iter()
         .enumerate()
-        .map(|(i, r)| (if r.id4.is_empty() { format!("record {}", i + 1) } else { r.id4.clone() }, r))
+        .map(|(i, r)| {
+            (
+                if r.id4.is_empty() {
+                    format!("record {}", i + 1)
+                } else {
+                    r.id4.clone()
+                },
+                r,
+            )
+        })
         .collect();
     let chosen: Vec<&(String, &super::uff::UffRecord)> = match &ingest.channels {
         Some(list) => list
             .iter()
             .map(|n| {
-                named.iter().find(|(m, _)| m == n).ok_or_else(|| SignalError::NoSuchChannel {
-                    file: path.to_path_buf(),
-                    name: n.clone(),
-                    available: named.iter().map(|(m, _)| m.as_str()).collect::<Vec<_>>().join(", "),
-                })
+                named
+                    .iter()
+                    .find(|(m, _)| m == n)
+                    .ok_or_else(|| SignalError::NoSuchChannel {
+                        file: path.to_path_buf(),
+                        name: n.clone(),
+                        available: named
+                            .iter()
+                            .map(|(m, _)| m.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })
             })
             .collect::<Result<_, _>>()?,
         None => named.iter().collect(),
@@ -141,7 +176,9 @@ fn psd_of_uff(path: &Path, ingest: &IngestOptions, opts: &WelchOptions) -> Resul
     if !(all_psd || all_time) {
         return Err(SignalError::Unsupported {
             file: path.to_path_buf(),
-            message: format!("UFF58 function types {kinds:?}: expected all time histories (1) or all PSDs (9)"),
+            message: format!(
+                "UFF58 function types {kinds:?}: expected all time histories (1) or all PSDs (9)"
+            ),
         });
     }
     let channels: Vec<ChannelPsd> = chosen
@@ -197,5 +234,14 @@ fn psd_of_uff(path: &Path, ingest: &IngestOptions, opts: &WelchOptions) -> Resul
         })
         .collect::<Result<_, _>>()?;
     let fs_hz = channels.first().map_or(0.0, |c| c.psd.fs);
-    Ok(LogPsd { source: if all_psd { PsdSource::UffPsd } else { PsdSource::UffWelch }, fs_hz, info: None, channels })
+    Ok(LogPsd {
+        source: if all_psd {
+            PsdSource::UffPsd
+        } else {
+            PsdSource::UffWelch
+        },
+        fs_hz,
+        info: None,
+        channels,
+    })
 }

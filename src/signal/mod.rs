@@ -13,14 +13,19 @@
 
 pub mod welch;
 
-pub use welch::{CrossPsd, Detrend, Psd, WelchOptions, WelchResult, WelchStream, Window, csd, welch, welch_multi};
+pub use welch::{
+    CrossPsd, Detrend, Psd, WelchOptions, WelchResult, WelchStream, Window, csd, welch, welch_multi,
+};
 pub mod bands;
 pub mod frf;
 pub mod ingest;
 pub mod peaks;
 pub mod uff;
 
-pub use bands::{Band, ToleranceReport, ToleranceSpec, ToleranceStatus, band_rms, octave_bands, read_profile, rms_of, tolerance_bands};
+pub use bands::{
+    Band, ToleranceReport, ToleranceSpec, ToleranceStatus, band_rms, octave_bands, read_profile,
+    rms_of, tolerance_bands,
+};
 pub use frf::{Frf, Resonance, frf, frf_of_files, resonances};
 pub use ingest::{IngestOptions, Log, LogInfo, Unit, read_csv, stream_csv};
 pub use peaks::{Peak, PeakOptions, find_peaks};

@@ -33,7 +33,13 @@ pub struct PeakOptions {
 
 impl Default for PeakOptions {
     fn default() -> Self {
-        PeakOptions { min_prominence_db: 6.0, max_peaks: 5, f_min_hz: 0.0, f_max_hz: f64::INFINITY, db_per_decade: 10.0 }
+        PeakOptions {
+            min_prominence_db: 6.0,
+            max_peaks: 5,
+            f_min_hz: 0.0,
+            f_max_hz: f64::INFINITY,
+            db_per_decade: 10.0,
+        }
     }
 }
 
@@ -73,7 +79,10 @@ pub fn find_peaks(freqs: &[f64], values: &[f64], opts: &PeakOptions) -> Vec<Peak
     let lv: Vec<f64> = values[..n].iter().map(|&v| db(v, k)).collect();
     let mut found = Vec::new();
     for i in 1..n - 1 {
-        if !(lv[i] > lv[i - 1] && lv[i] >= lv[i + 1]) || freqs[i] < opts.f_min_hz || freqs[i] > opts.f_max_hz {
+        if !(lv[i] > lv[i - 1] && lv[i] >= lv[i + 1])
+            || freqs[i] < opts.f_min_hz
+            || freqs[i] > opts.f_max_hz
+        {
             continue;
         }
         // Bases: the lowest point on each side before a higher one (or the end).
@@ -98,7 +107,12 @@ pub fn find_peaks(freqs: &[f64], values: &[f64], opts: &PeakOptions) -> Vec<Peak
         let prominence = lv[i] - left_min.max(right_min);
         if prominence >= opts.min_prominence_db {
             let (p, v) = parabolic(&values[..n], i);
-            found.push(Peak { frequency_hz: freq_at(freqs, i, p), value: v, prominence_db: prominence, line: i });
+            found.push(Peak {
+                frequency_hz: freq_at(freqs, i, p),
+                value: v,
+                prominence_db: prominence,
+                line: i,
+            });
         }
     }
     found.sort_by(|a, b| b.value.total_cmp(&a.value).then(a.line.cmp(&b.line)));

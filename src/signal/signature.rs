@@ -17,7 +17,11 @@ pub struct SignatureCriteria {
 
 impl Default for SignatureCriteria {
     fn default() -> Self {
-        SignatureCriteria { max_shift_pct: 5.0, max_amp_change_pct: 20.0, match_window_pct: 25.0 }
+        SignatureCriteria {
+            max_shift_pct: 5.0,
+            max_amp_change_pct: 20.0,
+            match_window_pct: 25.0,
+        }
     }
 }
 
@@ -47,7 +51,11 @@ pub struct SignatureReport {
 }
 
 /// Matches modes by nearest frequency (closest pairs first, each used once) and checks them.
-pub fn compare_signatures(before: &[Resonance], after: &[Resonance], crit: &SignatureCriteria) -> SignatureReport {
+pub fn compare_signatures(
+    before: &[Resonance],
+    after: &[Resonance],
+    crit: &SignatureCriteria,
+) -> SignatureReport {
     let mut b: Vec<&Resonance> = before.iter().collect();
     b.sort_by(|x, y| x.frequency_hz.total_cmp(&y.frequency_hz));
     let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
@@ -74,8 +82,19 @@ pub fn compare_signatures(before: &[Resonance], after: &[Resonance], crit: &Sign
         let mode = i + 1;
         let cmp = match match_of[i] {
             None => {
-                let reason = format!("no resonance within ±{}% after the test", crit.match_window_pct);
-                ModeComparison { mode, before_hz: m.frequency_hz, after_hz: None, shift_pct: None, amplitude_change_pct: None, pass: false, reason }
+                let reason = format!(
+                    "no resonance within ±{}% after the test",
+                    crit.match_window_pct
+                );
+                ModeComparison {
+                    mode,
+                    before_hz: m.frequency_hz,
+                    after_hz: None,
+                    shift_pct: None,
+                    amplitude_change_pct: None,
+                    pass: false,
+                    reason,
+                }
             }
             Some(j) => {
                 let a = &after[j];
@@ -83,10 +102,16 @@ pub fn compare_signatures(before: &[Resonance], after: &[Resonance], crit: &Sign
                 let amp = 100.0 * (a.magnitude - m.magnitude) / m.magnitude;
                 let mut why = Vec::new();
                 if shift.abs() > crit.max_shift_pct {
-                    why.push(format!("frequency shift {shift:+.2}% exceeds ±{}%", crit.max_shift_pct));
+                    why.push(format!(
+                        "frequency shift {shift:+.2}% exceeds ±{}%",
+                        crit.max_shift_pct
+                    ));
                 }
                 if amp.abs() > crit.max_amp_change_pct {
-                    why.push(format!("amplitude change {amp:+.2}% exceeds ±{}%", crit.max_amp_change_pct));
+                    why.push(format!(
+                        "amplitude change {amp:+.2}% exceeds ±{}%",
+                        crit.max_amp_change_pct
+                    ));
                 }
                 ModeComparison {
                     mode,
@@ -100,11 +125,25 @@ pub fn compare_signatures(before: &[Resonance], after: &[Resonance], crit: &Sign
             }
         };
         if !cmp.pass {
-            failures.push(format!("mode {} at {:.2} Hz: {}", cmp.mode, cmp.before_hz, cmp.reason));
+            failures.push(format!(
+                "mode {} at {:.2} Hz: {}",
+                cmp.mode, cmp.before_hz, cmp.reason
+            ));
         }
         modes.push(cmp);
     }
-    let mut new_after_hz: Vec<f64> = after.iter().zip(&used).filter(|(_, u)| !**u).map(|(a, _)| a.frequency_hz).collect();
+    let mut new_after_hz: Vec<f64> = after
+        .iter()
+        .zip(&used)
+        .filter(|(_, u)| !**u)
+        .map(|(a, _)| a.frequency_hz)
+        .collect();
     new_after_hz.sort_by(|x, y| x.total_cmp(y));
-    SignatureReport { criteria: crit.clone(), pass: failures.is_empty() && !modes.is_empty(), modes, new_after_hz, failures }
+    SignatureReport {
+        criteria: crit.clone(),
+        pass: failures.is_empty() && !modes.is_empty(),
+        modes,
+        new_after_hz,
+        failures,
+    }
 }

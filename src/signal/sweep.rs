@@ -28,7 +28,11 @@ pub struct SweepOptions {
 
 impl Default for SweepOptions {
     fn default() -> Self {
-        SweepOptions { block_s: 0.25, hop_s: 0.02, min_drive_fraction: 0.05 }
+        SweepOptions {
+            block_s: 0.25,
+            hop_s: 0.02,
+            min_drive_fraction: 0.05,
+        }
     }
 }
 
@@ -52,7 +56,7 @@ fn analytic(x: &[f64]) -> Vec<Complex64> {
     let mut buf: Vec<Complex64> = x.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     planner.plan_fft_forward(n).process(&mut buf);
     for (k, z) in buf.iter_mut().enumerate() {
-        let g = if k == 0 || (n % 2 == 0 && k == n / 2) {
+        let g = if k == 0 || (n.is_multiple_of(2) && k == n / 2) {
             1.0
         } else if k < n.div_ceil(2) {
             2.0
@@ -66,7 +70,12 @@ fn analytic(x: &[f64]) -> Vec<Complex64> {
 }
 
 /// Tracks `responses` against the sweep in `drive`, sampled at `fs`.
-pub fn track_sweep(drive: &[f64], responses: &[&[f64]], fs: f64, opts: &SweepOptions) -> Result<SweepTrack, SignalError> {
+pub fn track_sweep(
+    drive: &[f64],
+    responses: &[&[f64]],
+    fs: f64,
+    opts: &SweepOptions,
+) -> Result<SweepTrack, SignalError> {
     let block = (opts.block_s * fs).round() as usize;
     let hop = ((opts.hop_s * fs).round() as usize).max(1);
     if !(fs > 0.0 && fs.is_finite()) || block < 8 {
@@ -86,7 +95,11 @@ pub fn track_sweep(drive: &[f64], responses: &[&[f64]], fs: f64, opts: &SweepOpt
     }
     // The Hilbert transform rings at the ends of the record: keep one block clear of each.
     if drive.len() < 4 * block {
-        return Err(SignalError::SegmentTooLong { nperseg: 4 * block, len: drive.len(), channel: "drive".into() });
+        return Err(SignalError::SegmentTooLong {
+            nperseg: 4 * block,
+            len: drive.len(),
+            channel: "drive".into(),
+        });
     }
     let z = analytic(drive);
     let mut phase = Vec::with_capacity(z.len());
@@ -109,7 +122,9 @@ pub fn track_sweep(drive: &[f64], responses: &[&[f64]], fs: f64, opts: &SweepOpt
         .map(|j| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * (j as f64 + 0.5) / block as f64).cos())
         .collect();
     let wsum: f64 = w.iter().sum();
-    let mut rows: Vec<(f64, f64, f64, Vec<Complex64>, Vec<f64>)> = Vec::new();
+    // (time, frequency, drive amplitude, H per response, sine fraction per response)
+    type Row = (f64, f64, f64, Vec<Complex64>, Vec<f64>);
+    let mut rows: Vec<Row> = Vec::new();
     let mut start = block;
     while start + 2 * block <= drive.len() {
         let seg = start..start + block;
@@ -141,7 +156,11 @@ pub fn track_sweep(drive: &[f64], responses: &[&[f64]], fs: f64, opts: &SweepOpt
             hs.push(yd / xd);
             // Weighted mean square of the sine part is 2|Y|²/Σw² ... compared on the same weights.
             let sine_pow = 2.0 * yd.norm_sqr() / wsum;
-            fr.push(if pow > 0.0 { (sine_pow / pow).min(1.0) } else { 0.0 });
+            fr.push(if pow > 0.0 {
+                (sine_pow / pow).min(1.0)
+            } else {
+                0.0
+            });
         }
         rows.push(((start as f64 + tm) / fs, freq, amp, hs, fr));
         start += hop;

@@ -39,15 +39,23 @@ impl UffRecord {
         if self.abscissa.len() < 2 {
             return None;
         }
-        let d = (self.abscissa[self.abscissa.len() - 1] - self.abscissa[0]) / (self.abscissa.len() - 1) as f64;
+        let d = (self.abscissa[self.abscissa.len() - 1] - self.abscissa[0])
+            / (self.abscissa.len() - 1) as f64;
         let ok = d > 0.0
-            && self.abscissa.windows(2).all(|w| ((w[1] - w[0]) - d).abs() <= 1e-6 * d.abs().max(f64::MIN_POSITIVE));
+            && self
+                .abscissa
+                .windows(2)
+                .all(|w| ((w[1] - w[0]) - d).abs() <= 1e-6 * d.abs().max(f64::MIN_POSITIVE));
         ok.then_some(d)
     }
 }
 
 fn err(file: &Path, line: u64, message: impl Into<String>) -> SignalError {
-    SignalError::Uff { file: file.to_path_buf(), line, message: message.into() }
+    SignalError::Uff {
+        file: file.to_path_buf(),
+        line,
+        message: message.into(),
+    }
 }
 
 /// Reads every dataset-58 record of an ASCII UFF file.
@@ -66,7 +74,11 @@ pub fn parse_uff58(path: &Path, bytes: &[u8]) -> Result<Vec<UffRecord>, SignalEr
         return Err(SignalError::EmptyFile { file });
     }
     if let Some(offset) = bytes.iter().position(|&b| b == 0) {
-        return Err(SignalError::BinaryFile { file, offset, byte: 0 });
+        return Err(SignalError::BinaryFile {
+            file,
+            offset,
+            byte: 0,
+        });
     }
     // Header text may carry stray Latin-1 bytes (the VibControl "g²/Hz" does): decode lossily.
     let text = String::from_utf8_lossy(bytes);
@@ -79,7 +91,9 @@ pub fn parse_uff58(path: &Path, bytes: &[u8]) -> Result<Vec<UffRecord>, SignalEr
             continue;
         }
         // A delimiter; the next line names the dataset.
-        let Some(kind) = lines.get(i + 1).map(|l| l.trim()) else { break };
+        let Some(kind) = lines.get(i + 1).map(|l| l.trim()) else {
+            break;
+        };
         let marker_line = (i + 2) as u64;
         if kind == "-1" {
             i += 1;
@@ -87,7 +101,11 @@ pub fn parse_uff58(path: &Path, bytes: &[u8]) -> Result<Vec<UffRecord>, SignalEr
         }
         let is58 = kind.split_whitespace().next() == Some("58");
         if kind.starts_with("58b") || (is58 && kind.len() > 2 && kind.contains('b')) {
-            return Err(err(&file, marker_line, "binary UFF58 (58b) is not supported; export ASCII UFF58"));
+            return Err(err(
+                &file,
+                marker_line,
+                "binary UFF58 (58b) is not supported; export ASCII UFF58",
+            ));
         }
         if !is58 {
             // Skip to the closing delimiter of the foreign dataset.
@@ -103,19 +121,48 @@ pub fn parse_uff58(path: &Path, bytes: &[u8]) -> Result<Vec<UffRecord>, SignalEr
         i = next;
     }
     if out.is_empty() {
-        return Err(err(&file, 1, "no dataset 58 found (expected a line `    -1` then `    58`)"));
+        return Err(err(
+            &file,
+            1,
+            "no dataset 58 found (expected a line `    -1` then `    58`)",
+        ));
     }
     Ok(out)
 }
 
-fn field<T: std::str::FromStr>(file: &Path, line: u64, tokens: &[&str], k: usize, what: &str) -> Result<T, SignalError> {
-    let t = tokens.get(k).ok_or_else(|| err(file, line, format!("missing field {} ({what})", k + 1)))?;
-    t.parse::<T>().map_err(|_| err(file, line, format!("field {} ({what}): cannot parse `{t}`", k + 1)))
+fn field<T: std::str::FromStr>(
+    file: &Path,
+    line: u64,
+    tokens: &[&str],
+    k: usize,
+    what: &str,
+) -> Result<T, SignalError> {
+    let t = tokens
+        .get(k)
+        .ok_or_else(|| err(file, line, format!("missing field {} ({what})", k + 1)))?;
+    t.parse::<T>().map_err(|_| {
+        err(
+            file,
+            line,
+            format!("field {} ({what}): cannot parse `{t}`", k + 1),
+        )
+    })
 }
 
-fn parse_record(file: &Path, lines: &[&str], start: usize, marker: u64) -> Result<(UffRecord, usize), SignalError> {
+fn parse_record(
+    file: &Path,
+    lines: &[&str],
+    start: usize,
+    marker: u64,
+) -> Result<(UffRecord, usize), SignalError> {
     let get = |k: usize| -> Result<&str, SignalError> {
-        lines.get(start + k).copied().ok_or_else(|| err(file, (start + k + 1) as u64, "file ends inside the UFF58 header"))
+        lines.get(start + k).copied().ok_or_else(|| {
+            err(
+                file,
+                (start + k + 1) as u64,
+                "file ends inside the UFF58 header",
+            )
+        })
     };
     let id1 = get(0)?.trim().to_string();
     let id4 = get(3)?.trim().to_string();
@@ -136,19 +183,37 @@ fn parse_record(file: &Path, lines: &[&str], start: usize, marker: u64) -> Resul
     let complex = match ord_type {
         2 | 4 => false,
         5 | 6 => true,
-        other => return Err(err(file, r7_line, format!("ordinate data type {other} (expected 2, 4, 5 or 6)"))),
+        other => {
+            return Err(err(
+                file,
+                r7_line,
+                format!("ordinate data type {other} (expected 2, 4, 5 or 6)"),
+            ));
+        }
     };
     let even = match spacing {
         1 => true,
         0 => false,
-        other => return Err(err(file, r7_line, format!("abscissa spacing {other} (expected 0 or 1)"))),
+        other => {
+            return Err(err(
+                file,
+                r7_line,
+                format!("abscissa spacing {other} (expected 0 or 1)"),
+            ));
+        }
     };
     if even && !(dx.is_finite() && dx > 0.0) {
-        return Err(err(file, r7_line, format!("abscissa increment {dx} must be positive")));
+        return Err(err(
+            file,
+            r7_line,
+            format!("abscissa increment {dx} must be positive"),
+        ));
     }
     // Values per point in the data block.
     let per_point = usize::from(!even) + if complex { 2 } else { 1 };
-    let need = n.checked_mul(per_point).ok_or_else(|| err(file, r7_line, "number of data values overflows"))?;
+    let need = n
+        .checked_mul(per_point)
+        .ok_or_else(|| err(file, r7_line, "number of data values overflows"))?;
     // Records 8-11 are lines start+7 .. start+10; data from start+11 to the closing -1.
     let mut values: Vec<f64> = Vec::with_capacity(need.min(1 << 24));
     let mut j = start + 11;
@@ -161,23 +226,38 @@ fn parse_record(file: &Path, lines: &[&str], start: usize, marker: u64) -> Resul
         }
         for tok in l.split_whitespace() {
             // Fortran may write D exponents.
-            let v: f64 = if tok.contains(['D', 'd']) { tok.replace(['D', 'd'], "E").parse() } else { tok.parse() }
-                .map_err(|_| err(file, (j + 1) as u64, format!("cannot parse number `{tok}`")))?;
+            let v: f64 = if tok.contains(['D', 'd']) {
+                tok.replace(['D', 'd'], "E").parse()
+            } else {
+                tok.parse()
+            }
+            .map_err(|_| err(file, (j + 1) as u64, format!("cannot parse number `{tok}`")))?;
             if !v.is_finite() {
-                return Err(err(file, (j + 1) as u64, format!("non-finite value `{tok}`")));
+                return Err(err(
+                    file,
+                    (j + 1) as u64,
+                    format!("non-finite value `{tok}`"),
+                ));
             }
             values.push(v);
         }
         j += 1;
     }
     if !closed {
-        return Err(err(file, (j.min(lines.len())) as u64, "dataset 58 is not closed by `-1`"));
+        return Err(err(
+            file,
+            (j.min(lines.len())) as u64,
+            "dataset 58 is not closed by `-1`",
+        ));
     }
     if values.len() != need {
         return Err(err(
             file,
             marker,
-            format!("record 7 announces {n} points ({need} values) but the data block holds {}", values.len()),
+            format!(
+                "record 7 announces {n} points ({need} values) but the data block holds {}",
+                values.len()
+            ),
         ));
     }
     let mut abscissa = Vec::with_capacity(n);
@@ -185,7 +265,11 @@ fn parse_record(file: &Path, lines: &[&str], start: usize, marker: u64) -> Resul
     let mut im = Vec::with_capacity(if complex { n } else { 0 });
     for (k, chunk) in values.chunks_exact(per_point).enumerate() {
         let mut c = chunk.iter();
-        let x = if even { x0 + k as f64 * dx } else { *c.next().unwrap_or(&0.0) };
+        let x = if even {
+            x0 + k as f64 * dx
+        } else {
+            *c.next().unwrap_or(&0.0)
+        };
         abscissa.push(x);
         re.push(*c.next().unwrap_or(&0.0));
         if complex {
@@ -196,7 +280,18 @@ fn parse_record(file: &Path, lines: &[&str], start: usize, marker: u64) -> Resul
         return Err(err(file, marker, "the abscissa does not increase"));
     }
     Ok((
-        UffRecord { line: marker, id1, id4, function_type, response_entity, ordinate_label, abscissa, re, im, even_spacing: even },
+        UffRecord {
+            line: marker,
+            id1,
+            id4,
+            function_type,
+            response_entity,
+            ordinate_label,
+            abscissa,
+            re,
+            im,
+            even_spacing: even,
+        },
         j + 1,
     ))
 }
@@ -205,8 +300,12 @@ fn parse_record(file: &Path, lines: &[&str], start: usize, marker: u64) -> Resul
 pub fn looks_like_uff(path: &Path) -> bool {
     use std::io::Read;
     let mut buf = [0u8; 256];
-    let Ok(mut f) = std::fs::File::open(path) else { return false };
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return false;
+    };
     let n = f.read(&mut buf).unwrap_or(0);
     let s = String::from_utf8_lossy(&buf[..n]);
-    s.lines().find(|l| !l.trim().is_empty()).is_some_and(|l| l.trim() == "-1")
+    s.lines()
+        .find(|l| !l.trim().is_empty())
+        .is_some_and(|l| l.trim() == "-1")
 }

@@ -61,7 +61,13 @@ impl Window {
             Window::Hann => &[0.5, 0.5],
             Window::Hamming => &[0.54, 0.46],
             // scipy.signal.windows.flattop (D'Antona & Ferrero).
-            Window::Flattop => &[0.21557895, 0.41663158, 0.277263158, 0.083578947, 0.006947368],
+            Window::Flattop => &[
+                0.21557895,
+                0.41663158,
+                0.277263158,
+                0.083578947,
+                0.006947368,
+            ],
         };
         if m == 1 {
             return vec![1.0];
@@ -135,7 +141,9 @@ impl Detrend {
                 }
                 let sxx = nf * (nf * nf - 1.0) / 12.0;
                 let b = sxy / sxx;
-                x.iter_mut().enumerate().for_each(|(i, v)| *v -= ybar + b * (i as f64 - xbar));
+                x.iter_mut()
+                    .enumerate()
+                    .for_each(|(i, v)| *v -= ybar + b * (i as f64 - xbar));
             }
         }
     }
@@ -152,7 +160,12 @@ pub struct WelchOptions {
 
 impl Default for WelchOptions {
     fn default() -> Self {
-        WelchOptions { nperseg: 8192, overlap: 0.5, window: Window::Hann, detrend: Detrend::Constant }
+        WelchOptions {
+            nperseg: 8192,
+            overlap: 0.5,
+            window: Window::Hann,
+            detrend: Detrend::Constant,
+        }
     }
 }
 
@@ -170,7 +183,9 @@ impl WelchOptions {
             });
         }
         if !(self.overlap.is_finite() && (0.0..1.0).contains(&self.overlap)) {
-            return Err(SignalError::BadOverlap { overlap: self.overlap });
+            return Err(SignalError::BadOverlap {
+                overlap: self.overlap,
+            });
         }
         Ok(())
     }
@@ -203,7 +218,13 @@ impl Psd {
     /// A spectrum given on uniform lines, e.g. read from a UFF58 PSD record.
     pub fn from_lines(df: f64, values: Vec<f64>) -> Psd {
         let nperseg = 2 * values.len().saturating_sub(1);
-        Psd { fs: df * nperseg as f64, df, nperseg, segments: 0, values }
+        Psd {
+            fs: df * nperseg as f64,
+            df,
+            nperseg,
+            segments: 0,
+            values,
+        }
     }
 }
 
@@ -244,11 +265,17 @@ struct Engine {
 }
 
 impl Engine {
-    fn new(channels: usize, pairs: &[(usize, usize)], opts: &WelchOptions) -> Result<Engine, SignalError> {
+    fn new(
+        channels: usize,
+        pairs: &[(usize, usize)],
+        opts: &WelchOptions,
+    ) -> Result<Engine, SignalError> {
         opts.validate()?;
         for &(a, b) in pairs {
             if a >= channels || b >= channels {
-                return Err(SignalError::Invalid(format!("cross pair ({a}, {b}) out of {channels} channels")));
+                return Err(SignalError::Invalid(format!(
+                    "cross pair ({a}, {b}) out of {channels} channels"
+                )));
             }
         }
         let nf = opts.lines();
@@ -278,15 +305,28 @@ impl Engine {
         let results: Vec<(Vec<f64>, Vec<Complex64>)> = starts
             .par_iter()
             .map_init(
-                || (fft.make_input_vec(), fft.make_scratch_vec(), vec![Complex64::new(0.0, 0.0); nf * channels]),
+                || {
+                    (
+                        fft.make_input_vec(),
+                        fft.make_scratch_vec(),
+                        vec![Complex64::new(0.0, 0.0); nf * channels],
+                    )
+                },
                 |(input, scratch, spectra), &s| {
                     for (c, ch) in data.iter().enumerate() {
                         input.copy_from_slice(&ch[s..s + n]);
                         detrend.apply(input);
-                        input.iter_mut().zip(window.iter()).for_each(|(v, w)| *v *= w);
+                        input
+                            .iter_mut()
+                            .zip(window.iter())
+                            .for_each(|(v, w)| *v *= w);
                         // Lengths are fixed by construction; a failure here is a bug, not bad input.
-                        fft.process_with_scratch(input, &mut spectra[c * nf..(c + 1) * nf], scratch)
-                            .expect("realfft buffer lengths");
+                        fft.process_with_scratch(
+                            input,
+                            &mut spectra[c * nf..(c + 1) * nf],
+                            scratch,
+                        )
+                        .expect("realfft buffer lengths");
                     }
                     let mut p = Vec::with_capacity(nf * channels);
                     for c in 0..channels {
@@ -294,7 +334,10 @@ impl Engine {
                     }
                     let mut x = Vec::with_capacity(nf * pairs.len());
                     for &(a, b) in pairs {
-                        let (sa, sb) = (&spectra[a * nf..(a + 1) * nf], &spectra[b * nf..(b + 1) * nf]);
+                        let (sa, sb) = (
+                            &spectra[a * nf..(a + 1) * nf],
+                            &spectra[b * nf..(b + 1) * nf],
+                        );
                         x.extend(sa.iter().zip(sb).map(|(za, zb)| za.conj() * zb));
                     }
                     (p, x)
@@ -303,10 +346,16 @@ impl Engine {
             .collect();
         for (p, x) in results {
             for c in 0..channels {
-                self.auto[c].iter_mut().zip(&p[c * nf..(c + 1) * nf]).for_each(|(a, v)| *a += v);
+                self.auto[c]
+                    .iter_mut()
+                    .zip(&p[c * nf..(c + 1) * nf])
+                    .for_each(|(a, v)| *a += v);
             }
             for k in 0..pairs.len() {
-                self.cross[k].iter_mut().zip(&x[k * nf..(k + 1) * nf]).for_each(|(a, v)| *a += v);
+                self.cross[k]
+                    .iter_mut()
+                    .zip(&x[k * nf..(k + 1) * nf])
+                    .for_each(|(a, v)| *a += v);
             }
             self.segments += 1;
         }
@@ -315,7 +364,11 @@ impl Engine {
     fn finish(self, fs: f64, len: usize, names: &[String]) -> Result<WelchResult, SignalError> {
         if self.segments == 0 {
             let channel = names.first().cloned().unwrap_or_default();
-            return Err(SignalError::SegmentTooLong { nperseg: self.opts.nperseg, len, channel });
+            return Err(SignalError::SegmentTooLong {
+                nperseg: self.opts.nperseg,
+                len,
+                channel,
+            });
         }
         if !(fs.is_finite() && fs > 0.0) {
             return Err(SignalError::BadParameter {
@@ -328,7 +381,13 @@ impl Engine {
         let wss: f64 = self.window.iter().map(|w| w * w).sum();
         let scale = 1.0 / (fs * wss) / self.segments as f64;
         let last_doubled = if n % 2 == 1 { n / 2 } else { n / 2 - 1 };
-        let factor = |k: usize| if k >= 1 && k <= last_doubled { 2.0 } else { 1.0 };
+        let factor = |k: usize| {
+            if k >= 1 && k <= last_doubled {
+                2.0
+            } else {
+                1.0
+            }
+        };
         let df = fs / n as f64;
         let segments = self.segments;
         let auto = self
@@ -339,7 +398,11 @@ impl Engine {
                 df,
                 nperseg: n,
                 segments,
-                values: v.iter().enumerate().map(|(k, p)| p * scale * factor(k)).collect(),
+                values: v
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| p * scale * factor(k))
+                    .collect(),
             })
             .collect();
         let cross = self
@@ -350,7 +413,11 @@ impl Engine {
                 df,
                 nperseg: n,
                 segments,
-                values: v.iter().enumerate().map(|(k, p)| p * (scale * factor(k))).collect(),
+                values: v
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| p * (scale * factor(k)))
+                    .collect(),
             })
             .collect();
         Ok(WelchResult { auto, cross })
@@ -367,7 +434,9 @@ pub fn welch_multi(
     let mut engine = Engine::new(channels.len(), pairs, opts)?;
     let len = channels.iter().map(|c| c.len()).min().unwrap_or(0);
     let starts: Vec<usize> = if len >= opts.nperseg {
-        (0..=(len - opts.nperseg) / opts.step()).map(|i| i * opts.step()).collect()
+        (0..=(len - opts.nperseg) / opts.step())
+            .map(|i| i * opts.step())
+            .collect()
     } else {
         Vec::new()
     };
@@ -384,7 +453,12 @@ pub fn welch(x: &[f64], fs: f64, opts: &WelchOptions) -> Result<Psd, SignalError
 }
 
 /// Auto spectra Gxx, Gyy and the cross spectrum Gxy of two channels.
-pub fn csd(x: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<(Psd, Psd, CrossPsd), SignalError> {
+pub fn csd(
+    x: &[f64],
+    y: &[f64],
+    fs: f64,
+    opts: &WelchOptions,
+) -> Result<(Psd, Psd, CrossPsd), SignalError> {
     let mut r = welch_multi(&[x, y], &[(0, 1)], fs, opts)?;
     let gxy = r.cross.remove(0);
     let gyy = r.auto.remove(1);
@@ -403,9 +477,15 @@ pub struct WelchStream {
 }
 
 impl WelchStream {
-    pub fn new(names: &[String], pairs: &[(usize, usize)], opts: &WelchOptions) -> Result<WelchStream, SignalError> {
+    pub fn new(
+        names: &[String],
+        pairs: &[(usize, usize)],
+        opts: &WelchOptions,
+    ) -> Result<WelchStream, SignalError> {
         if names.is_empty() {
-            return Err(SignalError::Invalid("a Welch stream needs at least one channel".into()));
+            return Err(SignalError::Invalid(
+                "a Welch stream needs at least one channel".into(),
+            ));
         }
         let engine = Engine::new(names.len(), pairs, opts)?;
         let block = block_segments(opts.nperseg, names.len());
@@ -468,7 +548,8 @@ impl WelchStream {
 /// spectrum linearly interpolated at band edges that fall between lines (band RMS needs exact
 /// edges, not whole bins).
 pub fn integrate_band(values: &[f64], df: f64, f_lo: f64, f_hi: f64) -> f64 {
-    if values.len() < 2 || !(f_hi > f_lo) || df <= 0.0 {
+    if values.len() < 2 || f_hi.partial_cmp(&f_lo) != Some(std::cmp::Ordering::Greater) || df <= 0.0
+    {
         return 0.0;
     }
     let fmax = (values.len() - 1) as f64 * df;
