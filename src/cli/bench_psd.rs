@@ -40,6 +40,22 @@ fn status_kb(key: &str) -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// CPU seconds (user + system, all threads) of this process so far, from /proc/self/stat
+/// fields 14 and 15 in clock ticks of 1/100 s (the Linux USER_HZ on every mainstream
+/// architecture). Wall-clock figures swing on a shared machine; CPU time does much less.
+fn cpu_seconds() -> f64 {
+    let s = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // The command name (field 2) may hold spaces: count fields after its closing parenthesis.
+    let rest = s.rsplit_once(')').map_or("", |r| r.1);
+    // After the name, field 3 (state) is index 0, so utime (14) and stime (15) are 11 and 12.
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let tick = |i: usize| f.get(i).and_then(|v| v.parse::<u64>().ok());
+    match (tick(11), tick(12)) {
+        (Some(u), Some(k)) => (u + k) as f64 / 100.0,
+        _ => f64::NAN,
+    }
+}
+
 /// Resets the peak-RSS mark (Linux ≥ 4.0) so each run's VmHWM is its own.
 fn reset_peak() -> bool {
     std::fs::write("/proc/self/clear_refs", "5").is_ok()
@@ -72,11 +88,12 @@ if mode == "welch":
     x = np.fromfile(path, dtype="<f8")
     best = 1e99
     reps = int(sys.argv[3])
+    c0 = time.process_time()
     for _ in range(reps):
         t = time.perf_counter()
         f, p = ss.welch(x, fs=8192.0, window="hann", nperseg=8192, noverlap=4096, detrend="constant")
         best = min(best, time.perf_counter() - t)
-    out = {"seconds": best, "scipy": scipy.__version__}
+    out = {"seconds": best, "cpu_seconds": (time.process_time() - c0) / reps, "scipy": scipy.__version__}
     if len(sys.argv) > 4:
         ours = np.fromfile(sys.argv[4], dtype="<f8")
         m = p > 1e-12 * p.max()
@@ -84,13 +101,14 @@ if mode == "welch":
 else:
     import pandas as pd
     best = 1e99
+    c0 = time.process_time()
     for _ in range(int(sys.argv[3])):
         t = time.perf_counter()
         df = pd.read_csv(path)
         best = min(best, time.perf_counter() - t)
         rows = len(df)
         del df
-    out = {"seconds": best, "rows": rows, "pandas": pd.__version__}
+    out = {"seconds": best, "cpu_seconds": (time.process_time() - c0) / int(sys.argv[3]), "rows": rows, "pandas": pd.__version__}
 out["peak_rss_kb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 print(json.dumps(out))
 "#;
@@ -158,12 +176,14 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         };
         let mut best = f64::INFINITY;
         let mut psd = None;
+        let c0 = cpu_seconds();
         for _ in 0..reps {
             let t = Instant::now();
             let p = welch(&x, FS, &opts)?;
             best = best.min(t.elapsed().as_secs_f64());
             psd = Some(p);
         }
+        let welch_cpu = (cpu_seconds() - c0) / reps as f64;
         let peers = py && n <= 10_000_000;
         let bin = tmp.join(format!("x_{label}.f64"));
         let ours_bin = tmp.join(format!("psd_{label}.f64"));
@@ -199,12 +219,14 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         let base_rss = status_kb("VmRSS:").unwrap_or(0);
         let mut read_s = f64::INFINITY;
         let mut count = 0u64;
+        let c0 = cpu_seconds();
         for _ in 0..csv_reps {
             let t = Instant::now();
             count = 0;
             stream_csv(&csv, &IngestOptions::default(), |_| count += 1)?;
             read_s = read_s.min(t.elapsed().as_secs_f64());
         }
+        let read_cpu = (cpu_seconds() - c0) / csv_reps as f64;
         let read_peak = status_kb("VmHWM:").unwrap_or(0);
         // Read and Welch, streamed: the `satqual psd` path.
         reset_peak();
@@ -231,18 +253,20 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         rows.push(json!({
             "samples": n,
             "label": label,
-            "in_memory": {"seconds": best, "samples_per_s": rate(best), "repetitions": reps},
+            "in_memory": {"seconds": best, "samples_per_s": rate(best), "cpu_seconds_per_run": welch_cpu, "repetitions": reps},
             "scipy_welch": scipy.as_ref().map(|v| json!({
-                "seconds": v["seconds"], "samples_per_s": scipy_s.map(rate), "peak_rss_kb": v["peak_rss_kb"],
+                "seconds": v["seconds"], "samples_per_s": scipy_s.map(rate), "cpu_seconds_per_run": v["cpu_seconds"], "peak_rss_kb": v["peak_rss_kb"],
                 "version": v["scipy"], "max_rel_err_vs_satqual": v["max_rel_err_vs_ours"],
             })),
             "speedup_vs_scipy": scipy_s.map(|s| s / best),
+            "cpu_ratio_vs_scipy": scipy.as_ref().and_then(|v| v["cpu_seconds"].as_f64()).map(|c| c / welch_cpu),
             "csv": {
                 "file_bytes": file_bytes,
                 "write_seconds": write_s,
                 "rows_read": count,
                 "read_seconds": read_s,
                 "read_samples_per_s": rate(read_s),
+                "read_cpu_seconds_per_run": read_cpu,
                 "read_and_psd_seconds": psd_s,
                 "read_and_psd_samples_per_s": rate(psd_s),
                 "baseline_rss_kb": base_rss,
@@ -253,9 +277,10 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
                 "grms": res.as_ref().and_then(|r| r.channels.first().map(|c| c.grms)),
             },
             "pandas_read_csv": pandas.as_ref().map(|v| json!({
-                "seconds": v["seconds"], "samples_per_s": pandas_s.map(rate), "peak_rss_kb": v["peak_rss_kb"], "version": v["pandas"],
+                "seconds": v["seconds"], "samples_per_s": pandas_s.map(rate), "cpu_seconds_per_run": v["cpu_seconds"], "peak_rss_kb": v["peak_rss_kb"], "version": v["pandas"],
             })),
             "csv_read_speedup_vs_pandas": pandas_s.map(|s| s / read_s),
+            "csv_read_cpu_ratio_vs_pandas": pandas.as_ref().and_then(|v| v["cpu_seconds"].as_f64()).map(|c| c / read_cpu),
         }));
     }
     let _ = std::fs::remove_dir_all(&tmp);
@@ -321,6 +346,21 @@ fn markdown(r: &Value) -> String {
             fmt_mb(&row["csv"]["read_and_psd_peak_rss_kb"]),
             fmt_mb(&row["csv"]["baseline_rss_kb"]),
             row["csv"]["file_bytes"].as_f64().unwrap_or(0.0) / 1e6,
+        ));
+    }
+    s.push_str("\nCPU seconds per run (user + system, all threads; 10 ms ticks, so the 1e6 figures are coarse):\n\n");
+    s.push_str("| samples | satqual Welch | scipy Welch | scipy/satqual | satqual CSV read | pandas.read_csv | pandas/satqual |\n|---|---|---|---|---|---|---|\n");
+    let cpu = |v: &Value| v.as_f64().map_or("-".into(), |c| format!("{c:.3} s"));
+    for row in r["rows"].as_array().into_iter().flatten() {
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {} |\n",
+            row["label"].as_str().unwrap_or(""),
+            cpu(&row["in_memory"]["cpu_seconds_per_run"]),
+            cpu(&row["scipy_welch"]["cpu_seconds_per_run"]),
+            fmt_ratio(&row["cpu_ratio_vs_scipy"]),
+            cpu(&row["csv"]["read_cpu_seconds_per_run"]),
+            cpu(&row["pandas_read_csv"]["cpu_seconds_per_run"]),
+            fmt_ratio(&row["csv_read_cpu_ratio_vs_pandas"]),
         ));
     }
     let errs: Vec<String> = r["rows"]

@@ -486,6 +486,7 @@ struct Parsed {
     vals: Vec<f64>,
     lines: Vec<u64>,
     err: Option<SignalError>,
+    count: u64,
 }
 
 /// Parses one line (no newline) into `out`; `Ok(false)` for a blank line. One pass over the
@@ -507,10 +508,7 @@ fn parse_line(
     let mut start = 0usize;
     let mut bad: Option<(usize, usize, usize)> = None;
     loop {
-        let end = line[start..]
-            .iter()
-            .position(|&b| b == b',')
-            .map_or(line.len(), |p| start + p);
+        let end = memchr::memchr(b',', &line[start..]).map_or(line.len(), |p| start + p);
         if c < ncols
             && let Some((k, factor)) = l.slots[c]
         {
@@ -552,16 +550,22 @@ fn parse_line(
     Ok(true)
 }
 
-/// Parses the lines of `chunk`, the first being line `first_line` of the file.
-fn parse_chunk(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
+/// Parses the lines of `chunk` with line numbers counted from 0 within it (the caller adds the
+/// chunk's first line once the line counts of the chunks before it are known, so that no
+/// separate pass has to count newlines). `count` is the number of lines seen.
+fn parse_chunk(chunk: &[u8], l: &RowLayout) -> Parsed {
     let mut p = Parsed {
         vals: Vec::with_capacity(chunk.len() / 8),
         lines: Vec::with_capacity(chunk.len() / 24),
         err: None,
+        count: 0,
     };
-    for (i, line) in chunk.split(|&b| b == b'\n').enumerate() {
-        let n = first_line + i as u64;
-        match parse_line(line, n, l, &mut p.vals) {
+    let mut start = 0usize;
+    loop {
+        let end = memchr::memchr(b'\n', &chunk[start..]).map_or(chunk.len(), |q| start + q);
+        let n = p.count;
+        p.count += 1;
+        match parse_line(&chunk[start..end], n, l, &mut p.vals) {
             Ok(true) => p.lines.push(n),
             Ok(false) => {}
             Err(e) => {
@@ -570,8 +574,43 @@ fn parse_chunk(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
                 break;
             }
         }
+        if end == chunk.len() {
+            break;
+        }
+        start = end + 1;
     }
     p
+}
+
+/// The same error placed `offset` lines further down the file.
+fn shift_line(e: SignalError, offset: u64) -> SignalError {
+    match e {
+        SignalError::RaggedRow {
+            file,
+            line,
+            expected,
+            found,
+        } => SignalError::RaggedRow {
+            file,
+            line: line + offset,
+            expected,
+            found,
+        },
+        SignalError::BadCell {
+            file,
+            line,
+            column,
+            text,
+            what,
+        } => SignalError::BadCell {
+            file,
+            line: line + offset,
+            column,
+            text,
+            what,
+        },
+        other => other,
+    }
 }
 
 /// A quoted block goes through the csv crate (quotes may hide commas); plain blocks, the
@@ -685,7 +724,8 @@ fn read_rows(
         carry = buf[cut..].to_vec();
         buf.truncate(cut);
         let body = buf.strip_suffix(b"\n").unwrap_or(&buf);
-        // Pieces end at newlines; their first line numbers come from counting newlines.
+        // Pieces end at newlines; each is parsed with its own line numbers from 0, placed in
+        // the file once the pieces before it have reported their line counts.
         let mut bounds = vec![0usize];
         for k in 1..pieces {
             let target = body.len() * k / pieces;
@@ -693,40 +733,38 @@ fn read_rows(
             if target <= from {
                 continue;
             }
-            if let Some(p) = body[target..].iter().position(|&b| b == b'\n') {
+            if let Some(p) = memchr::memchr(b'\n', &body[target..]) {
                 bounds.push(target + p + 1);
             }
         }
         bounds.push(body.len() + 1);
         bounds.dedup();
         let spans: Vec<(usize, usize)> = bounds.windows(2).map(|w| (w[0], w[1] - 1)).collect();
-        let counts: Vec<u64> = spans
-            .par_iter()
-            .map(|&(a, b)| body[a..b].iter().filter(|&&c| c == b'\n').count() as u64 + 1)
-            .collect();
-        let mut starts = Vec::with_capacity(spans.len());
-        let mut line = next_line;
-        for c in &counts {
-            starts.push(line);
-            line += c;
-        }
-        let quoted = body.contains(&b'"');
-        let parsed: Vec<Parsed> = if quoted {
-            vec![parse_quoted(body, next_line, l)]
-        } else {
-            spans
-                .par_iter()
-                .zip(&starts)
-                .map(|(&(a, b), &s)| parse_chunk(&body[a..b], s, l))
-                .collect()
-        };
-        // Newlines in the block: those inside the pieces, the ones between them, and the last.
-        next_line += counts.iter().sum::<u64>() - 1 + u64::from(buf.ends_with(b"\n"));
-        for p in parsed {
+        if body.contains(&b'"') {
+            let p = parse_quoted(body, next_line, l);
             feed(&p.vals, &p.lines)?;
             if let Some(e) = p.err {
                 return Err(e);
             }
+            next_line += memchr::memchr_iter(b'\n', &buf).count() as u64;
+        } else {
+            let parsed: Vec<Parsed> = spans
+                .par_iter()
+                .map(|&(a, b)| parse_chunk(&body[a..b], l))
+                .collect();
+            for mut p in parsed {
+                let offset = next_line;
+                p.lines.iter_mut().for_each(|n| *n += offset);
+                feed(&p.vals, &p.lines)?;
+                if let Some(e) = p.err {
+                    return Err(shift_line(e, offset));
+                }
+                next_line += p.count;
+            }
+            // Pieces are separated by one newline each, counted in `count`; the block's final
+            // newline (absent at the end of a file without one) ends the last piece's last line.
+            next_line -= 1;
+            next_line += u64::from(buf.ends_with(b"\n"));
         }
         if eof {
             return Ok(());
