@@ -3,7 +3,8 @@
 //! here prints or exits.
 //!
 //! Pipeline stages, in the order the `psd`/`frf`/`signature` commands run them:
-//! 1. [`ingest`] / [`uff`]: a CSV log (streamed) or a UFF58 record -> channels, sampling rate.
+//! 1. [`ingest`] / [`uff`]: a CSV log (streamed) or a UFF58 record -> channels, sampling rate;
+//!    [`logpsd`] runs stages 1-2 for every channel of a file (the `psd` command's analysis).
 //! 2. [`welch`]: Welch PSD and CSD (scipy-exact definitions).
 //! 3. [`bands`]: Grms, band RMS, octave / third-octave levels, tolerance bands.
 //! 4. [`peaks`]: peaks with parabolic interpolation, resonances with half-power Q.
@@ -11,16 +12,15 @@
 //! 6. [`sweep`]: sine-sweep tracking (amplitude and phase against drive frequency).
 //! 7. [`signature`]: pre/post test signature comparison.
 
-pub mod welch;
-
-pub use welch::{
-    CrossPsd, Detrend, Psd, WelchOptions, WelchResult, WelchStream, Window, csd, welch, welch_multi,
-};
 pub mod bands;
 pub mod frf;
 pub mod ingest;
+pub mod logpsd;
 pub mod peaks;
+pub mod signature;
+pub mod sweep;
 pub mod uff;
+pub mod welch;
 
 pub use bands::{
     Band, ToleranceReport, ToleranceSpec, ToleranceStatus, band_rms, octave_bands, read_profile,
@@ -28,11 +28,11 @@ pub use bands::{
 };
 pub use frf::{Frf, Resonance, frf, frf_of_files, resonances};
 pub use ingest::{IngestOptions, Log, LogInfo, Unit, read_csv, stream_csv};
-pub use peaks::{Peak, PeakOptions, find_peaks};
-pub use uff::{UffRecord, read_uff58};
-pub mod logpsd;
 pub use logpsd::{ChannelPsd, LogPsd, PsdSource, psd_of_file};
-pub mod signature;
+pub use peaks::{Peak, PeakOptions, find_peaks};
 pub use signature::{ModeComparison, SignatureCriteria, SignatureReport, compare_signatures};
-pub mod sweep;
 pub use sweep::{SweepOptions, SweepTrack, sweep_resonance, track_sweep};
+pub use uff::{UffRecord, read_uff58};
+pub use welch::{
+    CrossPsd, Detrend, Psd, WelchOptions, WelchResult, WelchStream, Window, csd, welch, welch_multi,
+};
