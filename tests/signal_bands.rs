@@ -160,3 +160,37 @@ fn cli_tolerance_passes_fitted_profile_and_fails_a_doubled_one() {
     assert_eq!(v["tolerance"]["report"]["status"], "abort");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn psd_rms_is_parseval_for_white_noise() {
+    // Parseval: for a zero-mean signal the one-sided density integrates to the variance, and
+    // the Welch estimate (Hann, 50%) is unbiased for white noise. On 2^20 samples of uniform
+    // noise (variance 1/12) the relative scatter of a variance estimate is about √(2/N) ≈ 0.14%,
+    // so the Grms must be √(1/12) within 1%.
+    let mut state = 1u64;
+    let x: Vec<f64> = (0..1 << 20)
+        .map(|_| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+        .collect();
+    let p = satqual::signal::welch(
+        &x,
+        1000.0,
+        &satqual::signal::WelchOptions {
+            nperseg: 1024,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let want = (1.0f64 / 12.0).sqrt();
+    assert!(
+        (p.rms() - want).abs() < 0.01 * want,
+        "{} vs {want}",
+        p.rms()
+    );
+    // Half the band holds half the power for white noise.
+    assert!((p.band_rms(0.0, 250.0).powi(2) / p.rms().powi(2) - 0.5).abs() < 0.01);
+}

@@ -8,7 +8,11 @@
 //! interval (jitter or gaps). With `resample`, such a log is linearly interpolated onto a
 //! uniform grid and the interpolation is reported instead of refused.
 //!
-//! Parsing uses the `csv` crate (quoting, CRLF) and `fast-float2` for the numbers.
+//! Rows are read in 4 MiB blocks cut at newlines, and each block is split into pieces parsed in
+//! parallel (rayon), handed on in file order: memory stays flat and errors come out exactly as
+//! a sequential reader would give them. Plain numeric rows are split on commas with `memchr`;
+//! a block holding a quote goes through the `csv` crate. A quoted field with an embedded
+//! newline is not supported (numeric logs have none). Numbers are parsed by `fast-float2`.
 
 use crate::error::SignalError;
 use std::io::Read;

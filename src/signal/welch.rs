@@ -544,49 +544,14 @@ impl WelchStream {
     }
 }
 
-/// Trapezoidal integral of `values` on lines `k·df` between `f_lo` and `f_hi`, with the
-/// spectrum linearly interpolated at band edges that fall between lines (band RMS needs exact
-/// edges, not whole bins).
-pub fn integrate_band(values: &[f64], df: f64, f_lo: f64, f_hi: f64) -> f64 {
-    if values.len() < 2 || f_hi.partial_cmp(&f_lo) != Some(std::cmp::Ordering::Greater) || df <= 0.0
-    {
-        return 0.0;
-    }
-    let fmax = (values.len() - 1) as f64 * df;
-    let (lo, hi) = (f_lo.max(0.0), f_hi.min(fmax));
-    if hi <= lo {
-        return 0.0;
-    }
-    let at = |f: f64| {
-        let x = f / df;
-        let i = (x.floor() as usize).min(values.len() - 2);
-        let t = x - i as f64;
-        values[i] * (1.0 - t) + values[i + 1] * t
-    };
-    let mut sum = 0.0;
-    let mut f0 = lo;
-    let mut v0 = at(lo);
-    let mut k = (lo / df).floor() as usize + 1;
-    while (k as f64) * df < hi && k < values.len() {
-        let f1 = k as f64 * df;
-        sum += 0.5 * (v0 + values[k]) * (f1 - f0);
-        f0 = f1;
-        v0 = values[k];
-        k += 1;
-    }
-    sum += 0.5 * (v0 + at(hi)) * (hi - f0);
-    sum
-}
-
 impl Psd {
     /// Root of the trapezoidal integral over all lines (the Grms of a g²/Hz spectrum).
     pub fn rms(&self) -> f64 {
-        let fmax = (self.values.len().saturating_sub(1)) as f64 * self.df;
-        integrate_band(&self.values, self.df, 0.0, fmax).sqrt()
+        super::bands::rms_of(&self.frequencies(), &self.values)
     }
 
-    /// RMS within `[f_lo, f_hi]`.
+    /// RMS within `[f_lo, f_hi]`, band edges interpolated between lines.
     pub fn band_rms(&self, f_lo: f64, f_hi: f64) -> f64 {
-        integrate_band(&self.values, self.df, f_lo, f_hi).sqrt()
+        super::bands::band_rms(&self.frequencies(), &self.values, f_lo, f_hi)
     }
 }
