@@ -344,6 +344,30 @@ fn results_do_not_depend_on_thread_count() {
     assert!(o1.contains("\"grms\""));
     assert_eq!(o1, o2, "RAYON_NUM_THREADS=1 and 2 differ");
     assert_eq!(o1, o3, "RAYON_NUM_THREADS=1 and 3 differ");
+    // The reader cuts its blocks into 4 pieces per thread: the line an error names must not
+    // depend on that either. A bad cell on file line 150 002 of a 5 MB file:
+    let mut rows: Vec<String> = uniform_csv(200_000, &["a"])
+        .lines()
+        .map(str::to_string)
+        .collect();
+    let t = rows[150_001].split(',').next().unwrap().to_string();
+    rows[150_001] = format!("{t},1..2");
+    let p = write("threads_err.csv", rows.join("\n").as_bytes());
+    let args = ["psd", p.to_str().unwrap(), "--nperseg", "512"];
+    let errs: Vec<String> = ["1", "2", "5"]
+        .iter()
+        .map(|n| {
+            let (code, _, err) = cli(&args, Some(n));
+            assert_eq!(code, 2);
+            err
+        })
+        .collect();
+    assert!(
+        errs[0].contains("line 150002") && errs[0].contains("`1..2`"),
+        "{}",
+        errs[0]
+    );
+    assert!(errs.iter().all(|e| *e == errs[0]), "{errs:?}");
 }
 
 #[test]
