@@ -124,3 +124,47 @@ fn too_short_a_sweep_is_an_error_not_a_panic() {
     .unwrap_err();
     assert!(e.to_string().contains("samples"), "{e}");
 }
+
+#[test]
+fn sweep_cli_reports_fn_and_q_from_a_csv_log() {
+    // The same SDOF and sweep as above, through the CSV reader and `satqual sweep`: the same
+    // tolerances (fn 0.5%, Q 5%). Times printed to 1 ns keep the log uniform to 1e-5 of a step.
+    let (fs, fnat, q) = (2000.0, 100.0, 20.0);
+    let s = simulate(fs, (50.0, 200.0, 240.0), fnat, 1.0 / (2.0 * q), 0.05, 11);
+    let mut csv = String::from("time_s,drive,accel_g\n");
+    for (i, (d, a)) in s.drive.iter().zip(&s.accel).enumerate() {
+        csv.push_str(&format!("{:.9},{d:.9e},{a:.9e}\n", i as f64 / fs));
+    }
+    let dir = std::env::temp_dir().join(format!("satqual-sig-sweep-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("sweep.csv");
+    std::fs::write(&p, csv).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_satqual"))
+        .args([
+            "sweep",
+            p.to_str().unwrap(),
+            "--control",
+            "drive",
+            "--json",
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let r = &v["responses"][0];
+    assert_eq!(r["name"], "accel_g");
+    let f = r["resonance"]["frequency_hz"].as_f64().unwrap();
+    let qq = r["resonance"]["q"].as_f64().unwrap();
+    eprintln!("cli sweep: fn {f:.4} Hz, Q {qq:.3}");
+    assert!((f - fnat).abs() < 0.005 * fnat, "{f}");
+    assert!((qq - q).abs() < 0.05 * q, "{qq}");
+    assert!(dir.join("out/sweep.csv").exists() && dir.join("out/sweep.svg").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

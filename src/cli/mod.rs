@@ -12,6 +12,7 @@ mod frf;
 mod modal;
 mod psd;
 mod signature;
+mod sweep;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -34,6 +35,8 @@ pub enum Command {
     Frf(frf::Args),
     /// Compare the resonances of signatures taken before and after a test.
     Signature(signature::Args),
+    /// Sine-sweep tracking: response per unit drive against drive frequency, fn and Q.
+    Sweep(sweep::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -52,6 +55,7 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Psd(a) => psd::run(a),
         Command::Frf(a) => frf::run(a),
         Command::Signature(a) => signature::run(a),
+        Command::Sweep(a) => sweep::run(a),
     }
 }
 
