@@ -461,3 +461,36 @@ fn quoted_cells_are_read_through_the_csv_parser() {
     let log = read_csv(&p, &IngestOptions::default()).unwrap();
     assert_eq!(log.data[0], vec![1.5, 2.0, 3.0]);
 }
+
+#[test]
+fn absurd_parameters_are_errors_not_allocations() {
+    // nperseg far beyond the log (and beyond memory) must be refused before anything is sized
+    // by it; so must a sweep block longer than the record.
+    let p = write("tiny.csv", uniform_csv(50, &["a"]).as_bytes());
+    let (code, _, err) = cli(
+        &["psd", p.to_str().unwrap(), "--nperseg", "1000000000000000"],
+        None,
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("nperseg = 1000000000000000") && err.contains("50 samples"),
+        "{err}"
+    );
+    let e = welch(
+        &[1.0; 10],
+        1.0,
+        &WelchOptions {
+            nperseg: usize::MAX,
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("longer than the signal"), "{e}");
+    let o = satqual::signal::SweepOptions {
+        block_s: 1e300,
+        hop_s: 1e300,
+        ..Default::default()
+    };
+    let e = satqual::signal::track_sweep(&[0.0; 64], &[&[0.0; 64]], 1000.0, &o).unwrap_err();
+    assert!(e.to_string().contains("longer than the signal"), "{e}");
+}

@@ -94,9 +94,9 @@ pub fn track_sweep(
         }
     }
     // The Hilbert transform rings at the ends of the record: keep one block clear of each.
-    if drive.len() < 4 * block {
+    if drive.len() / 4 < block {
         return Err(SignalError::SegmentTooLong {
-            nperseg: 4 * block,
+            nperseg: block.saturating_mul(4),
             len: drive.len(),
             channel: "drive".into(),
         });
@@ -163,7 +163,7 @@ pub fn track_sweep(
             });
         }
         rows.push(((start as f64 + tm) / fs, freq, amp, hs, fr));
-        start += hop;
+        start = start.saturating_add(hop);
     }
     let max_amp = rows.iter().fold(0.0f64, |m, r| m.max(r.2));
     rows.retain(|r| r.2 >= opts.min_drive_fraction * max_amp && r.1 > 0.0);

@@ -431,8 +431,18 @@ pub fn welch_multi(
     fs: f64,
     opts: &WelchOptions,
 ) -> Result<WelchResult, SignalError> {
-    let mut engine = Engine::new(channels.len(), pairs, opts)?;
+    opts.validate()?;
     let len = channels.iter().map(|c| c.len()).min().unwrap_or(0);
+    // Checked before the engine exists: its sums and FFT plan are sized by nperseg, which a
+    // mistyped option could make enormous.
+    if len < opts.nperseg {
+        return Err(SignalError::SegmentTooLong {
+            nperseg: opts.nperseg,
+            len,
+            channel: String::new(),
+        });
+    }
+    let mut engine = Engine::new(channels.len(), pairs, opts)?;
     let starts: Vec<usize> = if len >= opts.nperseg {
         (0..=(len - opts.nperseg) / opts.step())
             .map(|i| i * opts.step())
@@ -469,9 +479,12 @@ pub fn csd(
 /// Welch estimator fed one sample row at a time; holds at most one block of samples per
 /// channel, so memory stays flat however long the log is.
 pub struct WelchStream {
-    engine: Engine,
+    /// Built at the first full segment, so that an `nperseg` larger than the log costs nothing.
+    engine: Option<Engine>,
+    opts: WelchOptions,
+    pairs: Vec<(usize, usize)>,
     buffers: Vec<Vec<f64>>,
-    block: usize,
+    need: usize,
     consumed: usize,
     names: Vec<String>,
 }
@@ -487,13 +500,26 @@ impl WelchStream {
                 "a Welch stream needs at least one channel".into(),
             ));
         }
-        let engine = Engine::new(names.len(), pairs, opts)?;
+        opts.validate()?;
+        if let Some(&(a, b)) = pairs
+            .iter()
+            .find(|&&(a, b)| a >= names.len() || b >= names.len())
+        {
+            return Err(SignalError::Invalid(format!(
+                "cross pair ({a}, {b}) out of {} channels",
+                names.len()
+            )));
+        }
         let block = block_segments(opts.nperseg, names.len());
-        let cap = opts.nperseg + (block - 1) * opts.step();
+        let need = opts
+            .nperseg
+            .saturating_add((block - 1).saturating_mul(opts.step()));
         Ok(WelchStream {
-            engine,
-            buffers: vec![Vec::with_capacity(cap); names.len()],
-            block,
+            engine: None,
+            opts: opts.clone(),
+            pairs: pairs.to_vec(),
+            buffers: vec![Vec::new(); names.len()],
+            need,
             consumed: 0,
             names: names.to_vec(),
         })
@@ -504,28 +530,35 @@ impl WelchStream {
         for (b, v) in self.buffers.iter_mut().zip(row) {
             b.push(*v);
         }
-        let need = self.engine.opts.nperseg + (self.block - 1) * self.engine.opts.step();
-        if self.buffers[0].len() >= need {
-            self.flush();
+        if self.buffers.first().is_some_and(|b| b.len() >= self.need) {
+            // Cannot fail: `new` checked the options and the pairs that `Engine::new` checks.
+            let _ = self.flush();
         }
     }
 
-    fn flush(&mut self) {
-        let n = self.engine.opts.nperseg;
-        let step = self.engine.opts.step();
+    fn flush(&mut self) -> Result<(), SignalError> {
+        let n = self.opts.nperseg;
+        let step = self.opts.step();
         let len = self.buffers.first().map_or(0, |b| b.len());
         if len < n {
-            return;
+            return Ok(());
         }
+        if self.engine.is_none() {
+            self.engine = Some(Engine::new(self.names.len(), &self.pairs, &self.opts)?);
+        }
+        let Some(engine) = self.engine.as_mut() else {
+            return Ok(());
+        };
         let count = (len - n) / step + 1;
         let starts: Vec<usize> = (0..count).map(|i| i * step).collect();
         let views: Vec<&[f64]> = self.buffers.iter().map(|b| b.as_slice()).collect();
-        self.engine.process(&views, &starts);
+        engine.process(&views, &starts);
         let drop = count * step;
         for b in &mut self.buffers {
             b.drain(..drop.min(b.len()));
         }
         self.consumed += drop;
+        Ok(())
     }
 
     /// Samples pushed so far per channel.
@@ -538,9 +571,16 @@ impl WelchStream {
     }
 
     pub fn finish(mut self, fs: f64) -> Result<WelchResult, SignalError> {
-        self.flush();
+        self.flush()?;
         let len = self.len();
-        self.engine.finish(fs, len, &self.names)
+        match self.engine {
+            Some(engine) => engine.finish(fs, len, &self.names),
+            None => Err(SignalError::SegmentTooLong {
+                nperseg: self.opts.nperseg,
+                len,
+                channel: self.names.first().cloned().unwrap_or_default(),
+            }),
+        }
     }
 }
 
