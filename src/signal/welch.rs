@@ -253,6 +253,9 @@ fn block_segments(nperseg: usize, channels: usize) -> usize {
     (4_000_000 / per_seg.max(1)).clamp(8, 256)
 }
 
+/// Segments summed by one task before the runs are added in order (see `Engine::process`).
+const SUM_RUN: usize = 8;
+
 struct Engine {
     opts: WelchOptions,
     window: Vec<f64>,
@@ -302,8 +305,11 @@ impl Engine {
         let window = &self.window;
         let detrend = self.opts.detrend;
         let pairs = &self.pairs;
+        // Segments are summed in fixed runs of SUM_RUN (by index within the block, never by
+        // thread), then the runs are added in order: the result is independent of the thread
+        // count and identical for a block processed in memory or from a stream.
         let results: Vec<(Vec<f64>, Vec<Complex64>)> = starts
-            .par_iter()
+            .par_chunks(SUM_RUN)
             .map_init(
                 || {
                     (
@@ -312,33 +318,41 @@ impl Engine {
                         vec![Complex64::new(0.0, 0.0); nf * channels],
                     )
                 },
-                |(input, scratch, spectra), &s| {
-                    for (c, ch) in data.iter().enumerate() {
-                        input.copy_from_slice(&ch[s..s + n]);
-                        detrend.apply(input);
-                        input
-                            .iter_mut()
-                            .zip(window.iter())
-                            .for_each(|(v, w)| *v *= w);
-                        // Lengths are fixed by construction; a failure here is a bug, not bad input.
-                        fft.process_with_scratch(
-                            input,
-                            &mut spectra[c * nf..(c + 1) * nf],
-                            scratch,
-                        )
-                        .expect("realfft buffer lengths");
-                    }
-                    let mut p = Vec::with_capacity(nf * channels);
-                    for c in 0..channels {
-                        p.extend(spectra[c * nf..(c + 1) * nf].iter().map(|z| z.norm_sqr()));
-                    }
-                    let mut x = Vec::with_capacity(nf * pairs.len());
-                    for &(a, b) in pairs {
-                        let (sa, sb) = (
-                            &spectra[a * nf..(a + 1) * nf],
-                            &spectra[b * nf..(b + 1) * nf],
-                        );
-                        x.extend(sa.iter().zip(sb).map(|(za, zb)| za.conj() * zb));
+                |(input, scratch, spectra), run| {
+                    let mut p = vec![0.0; nf * channels];
+                    let mut x = vec![Complex64::new(0.0, 0.0); nf * pairs.len()];
+                    for &s in run {
+                        for (c, ch) in data.iter().enumerate() {
+                            input.copy_from_slice(&ch[s..s + n]);
+                            detrend.apply(input);
+                            input
+                                .iter_mut()
+                                .zip(window.iter())
+                                .for_each(|(v, w)| *v *= w);
+                            // Lengths are fixed by construction; a failure is a bug, not bad input.
+                            fft.process_with_scratch(
+                                input,
+                                &mut spectra[c * nf..(c + 1) * nf],
+                                scratch,
+                            )
+                            .expect("realfft buffer lengths");
+                        }
+                        for c in 0..channels {
+                            p[c * nf..(c + 1) * nf]
+                                .iter_mut()
+                                .zip(&spectra[c * nf..(c + 1) * nf])
+                                .for_each(|(a, z)| *a += z.norm_sqr());
+                        }
+                        for (k, &(a, b)) in pairs.iter().enumerate() {
+                            let (sa, sb) = (
+                                &spectra[a * nf..(a + 1) * nf],
+                                &spectra[b * nf..(b + 1) * nf],
+                            );
+                            x[k * nf..(k + 1) * nf]
+                                .iter_mut()
+                                .zip(sa.iter().zip(sb))
+                                .for_each(|(acc, (za, zb))| *acc += za.conj() * zb);
+                        }
                     }
                     (p, x)
                 },
@@ -357,8 +371,8 @@ impl Engine {
                     .zip(&x[k * nf..(k + 1) * nf])
                     .for_each(|(a, v)| *a += v);
             }
-            self.segments += 1;
         }
+        self.segments += starts.len();
     }
 
     fn finish(self, fs: f64, len: usize, names: &[String]) -> Result<WelchResult, SignalError> {
