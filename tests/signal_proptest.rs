@@ -106,6 +106,29 @@ proptest! {
     }
 
     #[test]
+    fn fast_and_careful_row_paths_agree(rows in prop::collection::vec((prop::collection::vec((-1e9f64..1e9, 0usize..4), 2), any::<bool>()), 2..80)) {
+        // Cells in several spellings: plain rows take the in-place fast path, rows with blanks
+        // the careful one; both must give exactly the values Rust's own parser gives.
+        let mut s = String::from("time_s,a,b\n");
+        for (i, (cells, crlf)) in rows.iter().enumerate() {
+            s.push_str(&format!("{:e}", i as f64 * 0.001));
+            for (v, style) in cells {
+                let c = match style { 0 => format!("{v}"), 1 => format!("{v:e}"), 2 => format!(" {v}"), _ => format!("{v:e} ") };
+                s.push(',');
+                s.push_str(&c);
+            }
+            s.push_str(if *crlf { "\r\n" } else { "\n" });
+        }
+        let log = read_bytes(s.as_bytes(), &IngestOptions::default()).unwrap();
+        for (i, (cells, _)) in rows.iter().enumerate() {
+            for (c, (v, style)) in cells.iter().enumerate() {
+                let text = if *style % 2 == 0 { format!("{v}") } else { format!("{v:e}") };
+                prop_assert_eq!(log.data[c][i], text.parse::<f64>().unwrap());
+            }
+        }
+    }
+
+    #[test]
     fn uff_reader_never_panics_on_bytes(bytes in prop::collection::vec(any::<u8>(), 0..400)) {
         let _ = parse_uff58(Path::new("fuzz.uff"), &bytes);
         let mut b = b"    -1\n    58\n".to_vec();

@@ -554,6 +554,53 @@ fn parse_line(
     Ok(true)
 }
 
+/// Fast path for the common line `num,num,...,num` (no blanks, no quotes, every needed cell a
+/// finite number, the right field count): parses it in place, fields cut by the number parser
+/// itself. Returns the bytes consumed and whether a newline ended the line, or `None` (with
+/// `out` untouched) for anything else, which `parse_line` then judges and reports.
+fn fast_line(bytes: &[u8], l: &RowLayout, out: &mut Vec<f64>) -> Option<(usize, bool)> {
+    let base = out.len();
+    out.resize(base + l.width, 0.0);
+    let r = (|| {
+        let ncols = l.slots.len();
+        let mut i = 0usize;
+        for c in 0..ncols {
+            match l.slots[c] {
+                Some((k, factor)) => {
+                    let (v, used): (f64, usize) = fast_float2::parse_partial(&bytes[i..]).ok()?;
+                    if used == 0 || !v.is_finite() {
+                        return None;
+                    }
+                    out[base + k] = v * factor;
+                    i += used;
+                }
+                None => {
+                    i = memchr::memchr2(b',', b'\n', &bytes[i..]).map_or(bytes.len(), |q| i + q);
+                }
+            }
+            if c + 1 < ncols {
+                if bytes.get(i) != Some(&b',') {
+                    return None;
+                }
+                i += 1;
+            } else {
+                return match (bytes.get(i), bytes.get(i + 1)) {
+                    (None, _) => Some((i, false)),
+                    (Some(b'\n'), _) => Some((i + 1, true)),
+                    (Some(b'\r'), Some(b'\n')) => Some((i + 2, true)),
+                    (Some(b'\r'), None) => Some((i + 1, false)),
+                    _ => None,
+                };
+            }
+        }
+        None
+    })();
+    if r.is_none() {
+        out.truncate(base);
+    }
+    r
+}
+
 /// Parses the lines of `chunk` with line numbers counted from 0 within it (the caller adds the
 /// chunk's first line once the line counts of the chunks before it are known, so that no
 /// separate pass has to count newlines). `count` is the number of lines seen.
@@ -566,9 +613,17 @@ fn parse_chunk(chunk: &[u8], l: &RowLayout) -> Parsed {
     };
     let mut start = 0usize;
     loop {
-        let end = memchr::memchr(b'\n', &chunk[start..]).map_or(chunk.len(), |q| start + q);
         let n = p.count;
         p.count += 1;
+        if let Some((used, more)) = fast_line(&chunk[start..], l, &mut p.vals) {
+            p.lines.push(n);
+            if !more {
+                break;
+            }
+            start += used;
+            continue;
+        }
+        let end = memchr::memchr(b'\n', &chunk[start..]).map_or(chunk.len(), |q| start + q);
         match parse_line(&chunk[start..end], n, l, &mut p.vals) {
             Ok(true) => p.lines.push(n),
             Ok(false) => {}
