@@ -7,10 +7,20 @@ use satqual::signal::{WelchOptions, psd_of_file, welch};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// A folder per process and test thread: a thread runs one test at a time, so `cleanup` at the
+/// end of a test removes only that test's files.
 fn dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("satqual-sig-ingest-{}", std::process::id()));
+    let d = std::env::temp_dir().join(format!(
+        "satqual-sig-ingest-{}-{:?}",
+        std::process::id(),
+        std::thread::current().id()
+    ));
     std::fs::create_dir_all(&d).unwrap();
     d
+}
+
+fn cleanup() {
+    std::fs::remove_dir_all(dir()).ok();
 }
 
 fn write(name: &str, bytes: &[u8]) -> PathBuf {
@@ -171,6 +181,7 @@ fn bad_files_get_clear_errors() {
     );
     let (code, _, err) = cli(&["psd", p.to_str().unwrap(), "--channels", "zz"], None);
     assert!(code == 2 && err.contains("`zz`"), "{err}");
+    cleanup();
 }
 
 #[test]
@@ -186,6 +197,7 @@ fn one_data_column_with_fs_is_fine() {
     .unwrap();
     assert_eq!(log.info.fs_hz, 100.0);
     assert_eq!(log.data[0], vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
+    cleanup();
 }
 
 #[test]
@@ -223,6 +235,7 @@ fn welch_parameter_errors_from_the_cli() {
         None,
     );
     assert!(code == 2 && err.contains("kaiser"), "{err}");
+    cleanup();
 }
 
 #[test]
@@ -296,6 +309,7 @@ fn non_uniform_time_names_the_row_unless_resampled() {
         e.contains("line 5") && e.contains("100 sampling intervals"),
         "{e}"
     );
+    cleanup();
 }
 
 #[test]
@@ -328,6 +342,7 @@ fn streamed_psd_equals_in_memory_welch_and_units_convert() {
     .unwrap();
     assert_eq!(streamed.channels[1].unit, "g");
     assert!((raw.data[1][5] / satqual::units::G - log.data[1][5]).abs() < 1e-15);
+    cleanup();
 }
 
 #[test]
@@ -368,6 +383,7 @@ fn results_do_not_depend_on_thread_count() {
         errs[0]
     );
     assert!(errs.iter().all(|e| *e == errs[0]), "{errs:?}");
+    cleanup();
 }
 
 #[test]
@@ -412,6 +428,7 @@ fn uff_bad_inputs_are_errors() {
     assert!(e.contains("58b"), "{e}");
     let (code, _, err) = cli(&["psd", p.to_str().unwrap()], None);
     assert!(code == 2 && err.contains("58b"), "{err}");
+    cleanup();
 }
 
 #[test]
@@ -439,6 +456,7 @@ fn errors_deep_in_a_multi_block_file_name_the_right_line() {
         "blank lines are skipped, CRLF accepted"
     );
     assert_eq!(log.data[0][target - 1], 0.5);
+    cleanup();
 }
 
 #[test]
@@ -460,6 +478,7 @@ fn quoted_cells_are_read_through_the_csv_parser() {
     );
     let log = read_csv(&p, &IngestOptions::default()).unwrap();
     assert_eq!(log.data[0], vec![1.5, 2.0, 3.0]);
+    cleanup();
 }
 
 #[test]
@@ -493,4 +512,5 @@ fn absurd_parameters_are_errors_not_allocations() {
     };
     let e = satqual::signal::track_sweep(&[0.0; 64], &[&[0.0; 64]], 1000.0, &o).unwrap_err();
     assert!(e.to_string().contains("longer than the signal"), "{e}");
+    cleanup();
 }

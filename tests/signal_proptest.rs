@@ -8,9 +8,11 @@ use satqual::signal::uff::parse_uff58;
 use std::path::{Path, PathBuf};
 
 fn tmpfile(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("satqual-sig-prop-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(format!("{tag}-{:?}.csv", std::thread::current().id()))
+    std::env::temp_dir().join(format!(
+        "satqual-sig-prop-{}-{tag}-{:?}.csv",
+        std::process::id(),
+        std::thread::current().id()
+    ))
 }
 
 fn cell() -> impl Strategy<Value = String> {
@@ -47,7 +49,9 @@ fn read_bytes(
 ) -> Result<satqual::signal::Log, satqual::error::SignalError> {
     let p = tmpfile("bytes");
     std::fs::write(&p, bytes).unwrap();
-    read_csv(&p, opts)
+    let r = read_csv(&p, opts);
+    std::fs::remove_file(&p).ok();
+    r
 }
 
 proptest! {
