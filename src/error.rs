@@ -75,11 +75,105 @@ pub enum ResponseError {
     Invalid(String),
 }
 
-/// Measured-log ingest and spectral processing failures.
+/// Measured-log ingest and spectral processing failures. Each variant names the file and the
+/// row (1-based line of the file, header = line 1) or column where the fact was found.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SignalError {
+    #[error("{}: the file is empty", file.display())]
+    EmptyFile { file: PathBuf },
+    #[error("{}: looks like a binary file (byte 0x{byte:02x} at offset {offset}); expected a text CSV or ASCII UFF58", file.display())]
+    BinaryFile {
+        file: PathBuf,
+        offset: usize,
+        byte: u8,
+    },
+    #[error("{}: the header has no data rows after it", file.display())]
+    HeaderOnly { file: PathBuf },
+    #[error("{}: line 1: {message}", file.display())]
+    BadHeader { file: PathBuf, message: String },
+    #[error("{}: line {line}: expected {expected} fields as in the header, found {found}", file.display())]
+    RaggedRow {
+        file: PathBuf,
+        line: u64,
+        expected: usize,
+        found: usize,
+    },
+    #[error("{}: line {line}, column `{column}`: {what} `{text}`", file.display())]
+    BadCell {
+        file: PathBuf,
+        line: u64,
+        column: String,
+        text: String,
+        what: &'static str,
+    },
+    #[error("{}: no channel named `{name}` (available: {available})", file.display())]
+    NoSuchChannel {
+        file: PathBuf,
+        name: String,
+        available: String,
+    },
+    #[error("{}: line {line}: time {time} does not increase (previous row {previous})", file.display())]
+    NonMonotonicTime {
+        file: PathBuf,
+        line: u64,
+        time: f64,
+        previous: f64,
+    },
+    #[error("{}: line {line}: time step {dt} s departs from the sampling interval {expected_dt} s by more than {tolerance_pct}% (jitter or gap); pass --resample to interpolate onto a uniform grid", file.display())]
+    NonUniformTime {
+        file: PathBuf,
+        line: u64,
+        dt: f64,
+        expected_dt: f64,
+        tolerance_pct: f64,
+    },
+    #[error("{}: line {line}: a gap of {dt} s is more than {max_steps} sampling intervals ({expected_dt} s); it cannot be resampled honestly", file.display())]
+    ResampleGap {
+        file: PathBuf,
+        line: u64,
+        dt: f64,
+        expected_dt: f64,
+        max_steps: f64,
+    },
+    #[error("{}: no usable sampling rate: no time column (time, time_s, t, ...) with at least two finite increasing times, and no --fs", file.display())]
+    NoSamplingRate { file: PathBuf },
+    #[error("{}: line {line}: {message}", file.display())]
+    Uff {
+        file: PathBuf,
+        line: u64,
+        message: String,
+    },
+    #[error("{}: {message}", file.display())]
+    Unsupported { file: PathBuf, message: String },
+    #[error(
+        "nperseg = {nperseg} is longer than the signal ({len} samples){}",
+        channel_suffix(channel)
+    )]
+    SegmentTooLong {
+        nperseg: usize,
+        len: usize,
+        channel: String,
+    },
+    #[error("overlap {overlap} must be in [0, 1)")]
+    BadOverlap { overlap: f64 },
+    #[error("invalid parameter `{name}` = {value}: {reason}")]
+    BadParameter {
+        name: &'static str,
+        value: String,
+        reason: String,
+    },
+    #[error("channel `{channel}`: {message}")]
+    Channel { channel: String, message: String },
     #[error("{0}")]
     Invalid(String),
+}
+
+fn channel_suffix(channel: &str) -> String {
+    if channel.is_empty() {
+        String::new()
+    } else {
+        format!(" in channel `{channel}`")
+    }
 }
 
 /// Separation-dynamics failures. A run that fails stops at once and reports where and when;

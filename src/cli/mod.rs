@@ -8,14 +8,19 @@ use std::io::Write;
 
 mod bench;
 mod bench_fem;
+mod bench_psd;
 mod bench_response;
 mod bench_separation;
 mod expand;
+mod frf;
 mod modal;
+mod psd;
 mod qualify;
 mod random;
 mod separate;
+mod signature;
 mod sine;
+mod sweep;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -42,6 +47,14 @@ pub enum Command {
     Sine(sine::Args),
     /// Random-vibration base-excitation response (Grms, 3σ), loads and margins.
     Random(random::Args),
+    /// Welch PSD of a log (CSV or UFF58): Grms, RMS, peaks, tolerance bands against a profile.
+    Psd(psd::Args),
+    /// Frequency response H1/H2 and coherence between two channels, with resonances and Q.
+    Frf(frf::Args),
+    /// Compare the resonances of signatures taken before and after a test.
+    Signature(signature::Args),
+    /// Sine-sweep tracking: response per unit drive against drive frequency, fn and Q.
+    Sweep(sweep::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -62,6 +75,10 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Sine(a) => sine::run(a),
         Command::Random(a) => random::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Psd(a) => psd::run(a),
+        Command::Frf(a) => frf::run(a),
+        Command::Signature(a) => signature::run(a),
+        Command::Sweep(a) => sweep::run(a),
     }
 }
 

@@ -1,0 +1,320 @@
+//! `satqual psd LOG`: Welch PSD per channel (or a UFF58 PSD read as is), Grms/RMS, peaks,
+//! optional tolerance bands against a reference profile; `--out DIR` writes CSV curves and a
+//! log-log SVG plot with the Grms in the legend.
+
+use super::{Outcome, Printer};
+use satqual::Error;
+use satqual::report::plot::{Series, loglog_svg};
+use satqual::report::write_atomic;
+use satqual::signal::ingest::{IngestOptions, Unit};
+use satqual::signal::{
+    Detrend, PeakOptions, PsdSource, ToleranceSpec, WelchOptions, Window, find_peaks, octave_bands,
+    psd_of_file, read_profile, tolerance_bands,
+};
+use serde_json::json;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Log file: CSV with a header (and a time column or --fs), or ASCII UFF58.
+    pub log: PathBuf,
+    /// Channels to process, comma-separated (default: every non-time column).
+    #[arg(long, value_delimiter = ',')]
+    pub channels: Option<Vec<String>>,
+    /// Sampling rate, Hz (needed without a time column).
+    #[arg(long)]
+    pub fs: Option<f64>,
+    /// Welch segment length, samples.
+    #[arg(long, default_value_t = 8192)]
+    pub nperseg: usize,
+    /// Segment overlap as a fraction in [0, 1).
+    #[arg(long, default_value_t = 0.5)]
+    pub overlap: f64,
+    /// hann, hamming, flattop or boxcar.
+    #[arg(long, default_value = "hann")]
+    pub window: String,
+    /// none, constant or linear.
+    #[arg(long, default_value = "constant")]
+    pub detrend: String,
+    /// `g`, `m/s2` for every channel whose name states no unit, or a list `ch=unit,...`.
+    #[arg(long)]
+    pub units: Option<String>,
+    /// Interpolate a non-uniform time column onto a uniform grid (reported) instead of failing.
+    #[arg(long)]
+    pub resample: bool,
+    /// Reference profile (TOML `profile_g2_hz = [[f, g2], ...]` or CSV f_hz,g2_hz): tolerance bands.
+    #[arg(long)]
+    pub profile: Option<PathBuf>,
+    /// Channel checked against the profile (default: the first).
+    #[arg(long)]
+    pub control: Option<String>,
+    #[arg(long, default_value_t = 3.0)]
+    pub alarm_db: f64,
+    #[arg(long, default_value_t = 6.0)]
+    pub abort_db: f64,
+    #[arg(long, default_value_t = 10.0)]
+    pub grms_pct: f64,
+    /// Peaks reported per channel.
+    #[arg(long, default_value_t = 5)]
+    pub peaks: usize,
+    /// Write CSV curves and SVG plots here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print the machine-readable result to stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Parses `--units`: one unit for all, or `name=unit` pairs.
+pub fn parse_units(spec: Option<&str>, opts: &mut IngestOptions) -> Result<(), Error> {
+    let Some(spec) = spec else { return Ok(()) };
+    if !spec.contains('=') {
+        opts.default_unit = Some(Unit::parse(spec)?);
+        return Ok(());
+    }
+    for item in spec.split(',').filter(|s| !s.trim().is_empty()) {
+        let (name, unit) = item
+            .split_once('=')
+            .ok_or_else(|| Error::Other(format!("--units: `{item}` is not `channel=unit`")))?;
+        opts.channel_units
+            .push((name.trim().to_string(), Unit::parse(unit)?));
+    }
+    Ok(())
+}
+
+pub fn welch_options(
+    nperseg: usize,
+    overlap: f64,
+    window: &str,
+    detrend: &str,
+) -> Result<WelchOptions, Error> {
+    let o = WelchOptions {
+        nperseg,
+        overlap,
+        window: Window::parse(window)?,
+        detrend: Detrend::parse(detrend)?,
+    };
+    o.validate()?;
+    Ok(o)
+}
+
+fn csv_number(v: f64) -> String {
+    format!("{v:.9e}")
+}
+
+pub fn run(args: Args) -> Result<Outcome, Error> {
+    let p = Printer::new(args.json);
+    let mut ingest = IngestOptions {
+        channels: args.channels.clone(),
+        fs: args.fs,
+        resample: args.resample,
+        ..Default::default()
+    };
+    parse_units(args.units.as_deref(), &mut ingest)?;
+    let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
+    let res = psd_of_file(&args.log, &ingest, &wopts)?;
+    let spec = ToleranceSpec {
+        alarm_db: args.alarm_db,
+        abort_db: args.abort_db,
+        grms_pct: args.grms_pct,
+    };
+    let tolerance = match &args.profile {
+        Some(path) => {
+            let profile = read_profile(path)?;
+            let ch = match &args.control {
+                Some(name) => res
+                    .channels
+                    .iter()
+                    .find(|c| &c.name == name)
+                    .ok_or_else(|| {
+                        Error::Other(format!(
+                            "--control `{name}`: no such channel (available: {})",
+                            res.channels
+                                .iter()
+                                .map(|c| c.name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ))
+                    })?,
+                None => res
+                    .channels
+                    .first()
+                    .ok_or_else(|| Error::Other("no channel".into()))?,
+            };
+            Some((
+                ch.name.clone(),
+                tolerance_bands(&ch.psd.frequencies(), &ch.psd.values, &profile, &spec)?,
+            ))
+        }
+        None => None,
+    };
+    let first = res
+        .channels
+        .first()
+        .ok_or_else(|| Error::Other("no channel".into()))?;
+    let df = first.psd.df;
+    let peak_opts = PeakOptions {
+        max_peaks: args.peaks,
+        f_min_hz: df,
+        ..Default::default()
+    };
+    let mut channels_json = Vec::new();
+    let mut human = vec![format!(
+        "{}: {} channel(s), fs {:.6} Hz, {}",
+        args.log.display(),
+        res.channels.len(),
+        res.fs_hz,
+        match res.source {
+            PsdSource::UffPsd => "PSD read from UFF58".to_string(),
+            _ => format!(
+                "Welch nperseg {} ({} Hz lines), {} window, {} segments",
+                wopts.nperseg,
+                df,
+                wopts.window.name(),
+                first.psd.segments
+            ),
+        }
+    )];
+    for c in &res.channels {
+        let f = c.psd.frequencies();
+        let peaks = find_peaks(&f, &c.psd.values, &peak_opts);
+        human.push(format!(
+            "  {:<20} Grms {:.6} {}  RMS {}  peaks: {}",
+            c.name,
+            c.grms,
+            c.unit,
+            c.rms.map_or("-".into(), |r| format!("{r:.6}")),
+            peaks
+                .iter()
+                .map(|p| format!("{:.2} Hz", p.frequency_hz))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        channels_json.push(json!({
+            "name": c.name,
+            "unit": c.unit,
+            "grms": c.grms,
+            "rms": c.rms,
+            "samples": c.samples,
+            "peaks": peaks.iter().map(|p| json!({"frequency_hz": p.frequency_hz, "value": p.value, "prominence_db": p.prominence_db})).collect::<Vec<_>>(),
+        }));
+    }
+    let info = res.info.as_ref();
+    if let Some(r) = info.and_then(|i| i.resampled.as_ref()) {
+        human.push(format!(
+            "  resampled: {} irregular step(s) from line {} (largest {:.6e} s) -> uniform dt {:.6e} s, {} samples from {} rows",
+            r.irregular_rows, r.first_irregular_line, r.largest_step_s, r.uniform_dt_s, r.output_samples, r.input_rows
+        ));
+    }
+    if let Some((name, t)) = &tolerance {
+        human.push(format!(
+            "  tolerance ({name}): {:?}; {:.2}% of {} lines outside ±{} dB, {:.2}% outside ±{} dB; worst {:+.2} dB at {:.1} Hz; Grms {:.4} vs {:.4} ({:+.2}%)",
+            t.status,
+            100.0 * t.fraction_outside_alarm,
+            t.lines_checked,
+            t.spec.alarm_db,
+            100.0 * t.fraction_outside_abort,
+            t.spec.abort_db,
+            t.worst_excursion_db,
+            t.worst_frequency_hz,
+            t.measured_grms,
+            t.reference_grms,
+            t.grms_error_pct
+        ));
+    }
+    let pass = tolerance.as_ref().is_none_or(|(_, t)| t.pass);
+    let out_json = json!({
+        "file": args.log,
+        "source": res.source,
+        "fs_hz": res.fs_hz,
+        "nperseg": first.psd.nperseg,
+        "overlap": if res.source == PsdSource::UffPsd { None } else { Some(wopts.overlap) },
+        "window": if res.source == PsdSource::UffPsd { None } else { Some(wopts.window.name()) },
+        "detrend": if res.source == PsdSource::UffPsd { None } else { Some(wopts.detrend.name()) },
+        "frequency_resolution_hz": df,
+        "segments": first.psd.segments,
+        "time_column": info.and_then(|i| i.time_column.clone()),
+        "resampled": info.and_then(|i| i.resampled.clone()),
+        "channels": channels_json,
+        "tolerance": tolerance.as_ref().map(|(n, t)| json!({"channel": n, "report": t})),
+        "pass": pass,
+    });
+    if let Some(dir) = &args.out {
+        write_outputs(dir, &res)?;
+        human.push(format!(
+            "  wrote {}/psd.csv, third_octave.csv, psd.svg",
+            dir.display()
+        ));
+    }
+    p.human(&human.join("\n"));
+    p.json(&out_json)?;
+    Ok(if pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
+}
+
+fn write_outputs(dir: &std::path::Path, res: &satqual::signal::LogPsd) -> Result<(), Error> {
+    let Some(first) = res.channels.first() else {
+        return Ok(());
+    };
+    let f = first.psd.frequencies();
+    let mut csv = String::from("frequency_hz");
+    for c in &res.channels {
+        csv.push_str(&format!(",{} [{}^2/Hz]", c.name, c.unit));
+    }
+    csv.push('\n');
+    for (k, fk) in f.iter().enumerate() {
+        csv.push_str(&csv_number(*fk));
+        for c in &res.channels {
+            csv.push(',');
+            csv.push_str(&csv_number(
+                c.psd.values.get(k).copied().unwrap_or(f64::NAN),
+            ));
+        }
+        csv.push('\n');
+    }
+    write_atomic(&dir.join("psd.csv"), csv.as_bytes())?;
+    let mut bands = String::from("channel,center_hz,lower_hz,upper_hz,rms\n");
+    for c in &res.channels {
+        for b in octave_bands(&f, &c.psd.values, 3) {
+            bands.push_str(&format!(
+                "{},{:.6},{:.6},{:.6},{}\n",
+                c.name,
+                b.center_hz,
+                b.lower_hz,
+                b.upper_hz,
+                csv_number(b.rms)
+            ));
+        }
+    }
+    write_atomic(&dir.join("third_octave.csv"), bands.as_bytes())?;
+    let pts: Vec<Vec<(f64, f64)>> = res
+        .channels
+        .iter()
+        .map(|c| {
+            f.iter()
+                .copied()
+                .zip(c.psd.values.iter().copied())
+                .collect()
+        })
+        .collect();
+    let series: Vec<Series> = res
+        .channels
+        .iter()
+        .zip(&pts)
+        .map(|(c, p)| Series {
+            label: format!("{} (Grms {:.4} {})", c.name, c.grms, c.unit),
+            points: p,
+        })
+        .collect();
+    let unit = if res.channels.iter().all(|c| c.unit == "g") {
+        "g²/Hz"
+    } else {
+        "unit²/Hz"
+    };
+    let svg = loglog_svg("PSD", "frequency [Hz]", &format!("PSD [{unit}]"), &series)?;
+    write_atomic(&dir.join("psd.svg"), svg.as_bytes())?;
+    Ok(())
+}

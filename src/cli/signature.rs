@@ -1,0 +1,146 @@
+//! `satqual signature BEFORE AFTER --input CH --output CH`: resonances of the FRF of each
+//! signature, matched mode by mode; fails (exit 1) when a mode shifts more than
+//! `--max-shift-pct` or changes amplitude more than `--max-amp-change-pct`, naming the mode.
+
+use super::frf::compute;
+use super::psd::welch_options;
+use super::{Outcome, Printer};
+use satqual::Error;
+use satqual::signal::{PeakOptions, SignatureCriteria, compare_signatures};
+use serde_json::json;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Signature log taken before the test (CSV).
+    pub before: PathBuf,
+    /// Signature log taken after the test (CSV).
+    pub after: PathBuf,
+    #[arg(long)]
+    pub input: String,
+    #[arg(long)]
+    pub output: String,
+    #[arg(long)]
+    pub fs: Option<f64>,
+    #[arg(long, default_value_t = 5.0)]
+    pub max_shift_pct: f64,
+    #[arg(long, default_value_t = 20.0)]
+    pub max_amp_change_pct: f64,
+    /// Matching window between a mode before and a peak after, percent.
+    #[arg(long, default_value_t = 25.0)]
+    pub match_window_pct: f64,
+    #[arg(long, default_value_t = 8192)]
+    pub nperseg: usize,
+    #[arg(long, default_value_t = 0.5)]
+    pub overlap: f64,
+    #[arg(long, default_value = "hann")]
+    pub window: String,
+    #[arg(long, default_value = "constant")]
+    pub detrend: String,
+    #[arg(long)]
+    pub units: Option<String>,
+    /// Modes compared (the strongest resonances of the before-signature).
+    #[arg(long, default_value_t = 10)]
+    pub modes: usize,
+    #[arg(long, default_value_t = 6.0)]
+    pub min_prominence_db: f64,
+    #[arg(long)]
+    pub fmin: Option<f64>,
+    #[arg(long)]
+    pub fmax: Option<f64>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(args: Args) -> Result<Outcome, Error> {
+    let p = Printer::new(args.json);
+    let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
+    let peaks = PeakOptions {
+        min_prominence_db: args.min_prominence_db,
+        max_peaks: args.modes,
+        f_min_hz: args.fmin.unwrap_or(0.0),
+        f_max_hz: args.fmax.unwrap_or(f64::INFINITY),
+        db_per_decade: 20.0,
+    };
+    let u = args.units.as_deref();
+    let before = compute(
+        std::slice::from_ref(&args.before),
+        &args.input,
+        &args.output,
+        args.fs,
+        u,
+        false,
+        &wopts,
+        &peaks,
+    )?;
+    // After the test, look for more peaks than modes so a weakened mode is still found.
+    let after_peaks = PeakOptions {
+        max_peaks: args.modes * 2,
+        ..peaks.clone()
+    };
+    let after = compute(
+        std::slice::from_ref(&args.after),
+        &args.input,
+        &args.output,
+        args.fs,
+        u,
+        false,
+        &wopts,
+        &after_peaks,
+    )?;
+    let crit = SignatureCriteria {
+        max_shift_pct: args.max_shift_pct,
+        max_amp_change_pct: args.max_amp_change_pct,
+        match_window_pct: args.match_window_pct,
+    };
+    let rep = compare_signatures(&before.resonances, &after.resonances, &crit);
+    let mut human = vec![format!(
+        "signature {} -> {}: {} mode(s), {}",
+        args.before.display(),
+        args.after.display(),
+        rep.modes.len(),
+        if rep.pass { "PASS" } else { "FAIL" }
+    )];
+    for m in &rep.modes {
+        human.push(format!(
+            "  mode {}: {:.2} Hz -> {}  shift {}  amplitude {}  {}",
+            m.mode,
+            m.before_hz,
+            m.after_hz
+                .map_or("missing".into(), |f| format!("{f:.2} Hz")),
+            m.shift_pct.map_or("-".into(), |s| format!("{s:+.2}%")),
+            m.amplitude_change_pct
+                .map_or("-".into(), |s| format!("{s:+.2}%")),
+            if m.pass {
+                "ok".to_string()
+            } else {
+                format!("FAIL: {}", m.reason)
+            }
+        ));
+    }
+    if rep.modes.is_empty() {
+        human
+            .push("  no resonance found in the before-signature: nothing to compare (FAIL)".into());
+    }
+    p.human(&human.join("\n"));
+    p.json(&json!({
+        "before": args.before,
+        "after": args.after,
+        "input": args.input,
+        "output": args.output,
+        "fs_hz": before.frf.fs,
+        "frequency_resolution_hz": before.frf.df,
+        "criteria": rep.criteria,
+        "modes": rep.modes,
+        "new_after_hz": rep.new_after_hz,
+        "failures": rep.failures,
+        "before_peaks": before.resonances.iter().map(super::frf::peak_json).collect::<Vec<_>>(),
+        "after_peaks": after.resonances.iter().map(super::frf::peak_json).collect::<Vec<_>>(),
+        "pass": rep.pass,
+    }))?;
+    Ok(if rep.pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
+}

@@ -1,0 +1,170 @@
+//! `satqual sweep LOG --control CH`: sine-sweep tracking. Each response channel's amplitude and
+//! phase per unit control, against the instantaneous drive frequency, and its dominant
+//! resonance (fn, half-power Q). `--out DIR` writes sweep.csv and a log-log plot of |H|.
+
+use super::psd::parse_units;
+use super::{Outcome, Printer};
+use satqual::Error;
+use satqual::report::plot::{Series, loglog_svg};
+use satqual::report::write_atomic;
+use satqual::signal::ingest::{IngestOptions, read_csv};
+use satqual::signal::{SweepOptions, sweep_resonance, track_sweep};
+use serde_json::json;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Sweep log (CSV) holding the control (drive) channel and the responses.
+    pub log: PathBuf,
+    /// Control (drive) channel: its phase is the tracking reference.
+    #[arg(long)]
+    pub control: String,
+    /// Response channels, comma-separated (default: every other channel).
+    #[arg(long, value_delimiter = ',')]
+    pub responses: Option<Vec<String>>,
+    #[arg(long)]
+    pub fs: Option<f64>,
+    /// Demodulation block, s.
+    #[arg(long, default_value_t = 0.25)]
+    pub block_s: f64,
+    /// Step between blocks, s.
+    #[arg(long, default_value_t = 0.02)]
+    pub hop_s: f64,
+    #[arg(long)]
+    pub units: Option<String>,
+    #[arg(long)]
+    pub resample: bool,
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(args: Args) -> Result<Outcome, Error> {
+    let p = Printer::new(args.json);
+    let mut ingest = IngestOptions {
+        fs: args.fs,
+        resample: args.resample,
+        ..Default::default()
+    };
+    parse_units(args.units.as_deref(), &mut ingest)?;
+    let log = read_csv(&args.log, &ingest)?;
+    let drive = log.channel(&args.control)?;
+    let names: Vec<String> = match &args.responses {
+        Some(v) => v.clone(),
+        None => log
+            .info
+            .channels
+            .iter()
+            .map(|c| c.name.clone())
+            .filter(|n| *n != args.control)
+            .collect(),
+    };
+    if names.is_empty() {
+        return Err(Error::Other(format!(
+            "{}: no response channel besides `{}`",
+            args.log.display(),
+            args.control
+        )));
+    }
+    let resp: Vec<&[f64]> = names
+        .iter()
+        .map(|n| log.channel(n))
+        .collect::<Result<_, _>>()?;
+    let opts = SweepOptions {
+        block_s: args.block_s,
+        hop_s: args.hop_s,
+        ..Default::default()
+    };
+    let track = track_sweep(drive, &resp, log.info.fs_hz, &opts)?;
+    let mut human = vec![format!(
+        "{}: sweep tracked on `{}`, {} blocks, {:.2}–{:.2} Hz",
+        args.log.display(),
+        args.control,
+        track.frequency_hz.len(),
+        track.frequency_hz.first().copied().unwrap_or(f64::NAN),
+        track.frequency_hz.last().copied().unwrap_or(f64::NAN)
+    )];
+    let mut out = Vec::new();
+    for (r, name) in names.iter().enumerate() {
+        let res = sweep_resonance(&track, r);
+        match &res {
+            Some(x) => human.push(format!(
+                "  {name}: fn {:.3} Hz  |H| {:.6e}  Q {}  phase {:.1}°  sine fraction {:.4}",
+                x.frequency_hz,
+                x.magnitude,
+                x.q.map_or("-".into(), |q| format!("{q:.2}")),
+                x.phase_deg,
+                x.coherence
+            )),
+            None => human.push(format!("  {name}: no resonance inside the tracked band")),
+        }
+        out.push(json!({
+            "name": name,
+            "resonance": res.as_ref().map(|x| json!({
+                "frequency_hz": x.frequency_hz, "magnitude": x.magnitude, "q": x.q,
+                "phase_deg": x.phase_deg, "sine_fraction": x.coherence,
+            })),
+        }));
+    }
+    if let Some(dir) = &args.out {
+        let mut csv = String::from("time_s,frequency_hz,drive_amplitude");
+        for n in &names {
+            csv.push_str(&format!(",{n}_mag,{n}_phase_deg,{n}_sine_fraction"));
+        }
+        csv.push('\n');
+        for k in 0..track.frequency_hz.len() {
+            csv.push_str(&format!(
+                "{:.6},{:.6},{:.9e}",
+                track.time_s[k], track.frequency_hz[k], track.drive_amplitude[k]
+            ));
+            for r in 0..names.len() {
+                let h = track.h[r][k];
+                csv.push_str(&format!(
+                    ",{:.9e},{:.4},{:.6}",
+                    h.norm(),
+                    h.arg().to_degrees(),
+                    track.sine_fraction[r][k]
+                ));
+            }
+            csv.push('\n');
+        }
+        write_atomic(&dir.join("sweep.csv"), csv.as_bytes())?;
+        let pts: Vec<Vec<(f64, f64)>> = track
+            .h
+            .iter()
+            .map(|h| {
+                track
+                    .frequency_hz
+                    .iter()
+                    .zip(h)
+                    .map(|(f, z)| (*f, z.norm()))
+                    .collect()
+            })
+            .collect();
+        let series: Vec<Series> = names
+            .iter()
+            .zip(&pts)
+            .map(|(n, p)| Series {
+                label: format!("|{n}/{}|", args.control),
+                points: p,
+            })
+            .collect();
+        let svg = loglog_svg("sweep response", "drive frequency [Hz]", "|H|", &series)?;
+        write_atomic(&dir.join("sweep.svg"), svg.as_bytes())?;
+        human.push(format!("  wrote {}/sweep.csv, sweep.svg", dir.display()));
+    }
+    p.human(&human.join("\n"));
+    p.json(&json!({
+        "file": args.log,
+        "control": args.control,
+        "fs_hz": log.info.fs_hz,
+        "block_s": args.block_s,
+        "hop_s": args.hop_s,
+        "blocks": track.frequency_hz.len(),
+        "frequency_min_hz": track.frequency_hz.first(),
+        "frequency_max_hz": track.frequency_hz.last(),
+        "responses": out,
+    }))?;
+    Ok(Outcome::Pass)
+}

@@ -1,0 +1,1066 @@
+//! CSV log ingest, streamed: one row at a time goes to a caller's sink, so memory does not grow
+//! with the file. Input: a text CSV whose header names the channels, with a time column
+//! (`time`, `time_s`, `t`, ...) or a sampling rate given by the caller.
+//!
+//! The reader checks, and reports with file, line and column: binary content, empty files,
+//! header-only files, unnamed or duplicate columns, ragged rows, cells that are not finite
+//! numbers, a time column that does not increase, and one whose step departs from the sampling
+//! interval (jitter or gaps). With `resample`, such a log is linearly interpolated onto a
+//! uniform grid and the interpolation is reported instead of refused.
+//!
+//! Rows are read in 4 MiB blocks cut at newlines, and each block is split into pieces parsed in
+//! parallel (rayon), handed on in file order: memory stays flat and errors come out exactly as
+//! a sequential reader would give them. Plain numeric rows are split on commas with `memchr`;
+//! a block holding a quote goes through the `csv` crate. A quoted field with an embedded
+//! newline is not supported (numeric logs have none). Numbers are parsed by `fast-float2`.
+
+use crate::error::SignalError;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+/// Physical unit of a channel, as found in its name or given by the caller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Unit {
+    #[serde(rename = "g")]
+    G,
+    #[serde(rename = "m/s2")]
+    MPerS2,
+    /// Anything else (force, voltage, ...): values are kept as they are.
+    #[serde(rename = "as-is")]
+    AsIs,
+}
+
+impl Unit {
+    pub fn parse(s: &str) -> Result<Unit, SignalError> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "g" => Ok(Unit::G),
+            "m/s2" | "m/s^2" | "m/s²" | "ms2" | "m_s2" => Ok(Unit::MPerS2),
+            "as-is" | "raw" | "none" => Ok(Unit::AsIs),
+            _ => Err(SignalError::BadParameter {
+                name: "units",
+                value: s.to_string(),
+                reason: "expected g, m/s2 or as-is".into(),
+            }),
+        }
+    }
+
+    /// The unit a channel name states, e.g. `accel_g`, `a [m/s2]`, `acc_m_s2`.
+    pub fn from_name(name: &str) -> Option<Unit> {
+        let n = name.trim().to_ascii_lowercase();
+        if n.ends_with("_g") || n.ends_with("[g]") || n.ends_with("(g)") || n == "g" {
+            Some(Unit::G)
+        } else if ["m/s2", "m/s^2", "m/s²", "_m_s2", "_ms2", "mps2"]
+            .iter()
+            .any(|s| {
+                n.ends_with(s) || n.ends_with(&format!("{s}]")) || n.ends_with(&format!("{s})"))
+            })
+        {
+            Some(Unit::MPerS2)
+        } else {
+            None
+        }
+    }
+
+    /// Factor from this unit to the unit the analysis reports (g for accelerations).
+    pub fn to_report_factor(self) -> f64 {
+        match self {
+            Unit::MPerS2 => 1.0 / crate::units::G,
+            Unit::G | Unit::AsIs => 1.0,
+        }
+    }
+
+    /// Unit of the values after conversion.
+    pub fn reported(self) -> &'static str {
+        match self {
+            Unit::G | Unit::MPerS2 => "g",
+            Unit::AsIs => "as-is",
+        }
+    }
+}
+
+/// Where a channel's unit came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UnitSource {
+    Name,
+    Option,
+    Default,
+}
+
+/// How to read a log.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IngestOptions {
+    /// Channels to keep, in this order; `None` keeps every non-time column.
+    pub channels: Option<Vec<String>>,
+    /// Sampling rate, Hz. Required without a time column; with one, it must agree.
+    pub fs: Option<f64>,
+    /// Unit for every channel whose name does not state one.
+    pub default_unit: Option<Unit>,
+    /// Per-channel units, overriding the name.
+    pub channel_units: Vec<(String, Unit)>,
+    /// Interpolate a non-uniform time column onto a uniform grid instead of failing.
+    pub resample: bool,
+    /// Allowed departure of one time step from the sampling interval, as a fraction of it.
+    pub jitter_tolerance: f64,
+}
+
+impl Default for IngestOptions {
+    fn default() -> Self {
+        IngestOptions {
+            channels: None,
+            fs: None,
+            default_unit: None,
+            channel_units: Vec::new(),
+            resample: false,
+            jitter_tolerance: 0.01,
+        }
+    }
+}
+
+/// One channel of a log.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ChannelInfo {
+    pub name: String,
+    /// Unit in the file.
+    pub unit: Unit,
+    pub unit_source: UnitSource,
+    /// Index of the column in the file (0-based).
+    pub column: usize,
+}
+
+/// What resampling did to a non-uniform log.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ResampleReport {
+    pub uniform_dt_s: f64,
+    /// Rows whose step departed from the interval by more than the tolerance.
+    pub irregular_rows: u64,
+    /// First such row (line number in the file).
+    pub first_irregular_line: u64,
+    pub largest_step_s: f64,
+    pub input_rows: u64,
+    pub output_samples: u64,
+}
+
+/// Description of a log once read.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LogInfo {
+    pub file: PathBuf,
+    pub channels: Vec<ChannelInfo>,
+    pub time_column: Option<String>,
+    pub fs_hz: f64,
+    pub samples: u64,
+    pub resampled: Option<ResampleReport>,
+}
+
+/// A log held in memory: `data[c]` is channel `c`, already converted to its reported unit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Log {
+    pub info: LogInfo,
+    pub data: Vec<Vec<f64>>,
+}
+
+impl Log {
+    pub fn channel(&self, name: &str) -> Result<&[f64], SignalError> {
+        self.info
+            .channels
+            .iter()
+            .position(|c| c.name == name)
+            .map(|i| self.data[i].as_slice())
+            .ok_or_else(|| SignalError::NoSuchChannel {
+                file: self.info.file.clone(),
+                name: name.to_string(),
+                available: self
+                    .info
+                    .channels
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+}
+
+/// Whether a header names a time column.
+pub fn is_time_column(name: &str) -> bool {
+    let n = name.trim().to_ascii_lowercase();
+    let base = n.split(['[', '(', ' ']).next().unwrap_or("");
+    matches!(
+        base,
+        "t" | "t_s" | "time" | "time_s" | "times" | "timestamp" | "x_value" | "seconds" | "sec"
+    )
+}
+
+/// Reads the first bytes to refuse binary files before the CSV parser sees them.
+fn sniff(path: &Path) -> Result<(), SignalError> {
+    let mut f = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+    let mut buf = vec![0u8; 8192];
+    let mut got = 0;
+    while got < buf.len() {
+        let n = f.read(&mut buf[got..]).map_err(|e| io_error(path, e))?;
+        if n == 0 {
+            break;
+        }
+        got += n;
+    }
+    buf.truncate(got);
+    if buf.iter().all(|b| b.is_ascii_whitespace()) {
+        return Err(SignalError::EmptyFile {
+            file: path.to_path_buf(),
+        });
+    }
+    if let Some(offset) = buf
+        .iter()
+        .position(|&b| b == 0 || (b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t')))
+    {
+        return Err(SignalError::BinaryFile {
+            file: path.to_path_buf(),
+            offset,
+            byte: buf[offset],
+        });
+    }
+    if let Err(e) = std::str::from_utf8(&buf) {
+        // A multi-byte character cut by the 8 KiB sniff window is not binary content.
+        if e.error_len().is_some() {
+            let offset = e.valid_up_to();
+            return Err(SignalError::BinaryFile {
+                file: path.to_path_buf(),
+                offset,
+                byte: buf[offset],
+            });
+        }
+    }
+    Ok(())
+}
+
+fn io_error(path: &Path, e: std::io::Error) -> SignalError {
+    SignalError::Unsupported {
+        file: path.to_path_buf(),
+        message: format!("cannot read: {e}"),
+    }
+}
+
+fn parse_cell(bytes: &[u8]) -> Option<f64> {
+    let t = bytes.trim_ascii();
+    let v: f64 = fast_float2::parse(t).ok()?;
+    v.is_finite().then_some(v)
+}
+
+fn bad_cell(file: &Path, line: u64, column: &str, bytes: &[u8]) -> SignalError {
+    let text = String::from_utf8_lossy(bytes.trim_ascii()).into_owned();
+    let lower = text.to_ascii_lowercase();
+    let what = if text.is_empty() {
+        "empty cell"
+    } else if lower.contains("nan") {
+        "not a number"
+    } else if lower.contains("inf") || fast_float2::parse::<f64, _>(text.as_bytes()).is_ok() {
+        "non-finite value"
+    } else {
+        "cannot parse number"
+    };
+    SignalError::BadCell {
+        file: file.to_path_buf(),
+        line,
+        column: column.to_string(),
+        text,
+        what,
+    }
+}
+
+/// Streams a CSV log: calls `sink` with one row of the selected channels (converted to their
+/// reported unit) per uniform sample, and returns the log's description.
+pub fn stream_csv(
+    path: &Path,
+    opts: &IngestOptions,
+    mut sink: impl FnMut(&[f64]),
+) -> Result<LogInfo, SignalError> {
+    sniff(path)?;
+    let file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
+    let fpath = path.to_path_buf();
+    // The header line goes through the csv crate (quoted names); rows go through `Rows`.
+    let mut header_line = Vec::new();
+    std::io::BufRead::read_until(&mut reader, b'\n', &mut header_line)
+        .map_err(|e| io_error(path, e))?;
+    let mut record = csv::ByteRecord::new();
+    let mut hr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(&header_line[..]);
+    if !hr
+        .read_byte_record(&mut record)
+        .map_err(|e| SignalError::BadHeader {
+            file: fpath.clone(),
+            message: e.to_string(),
+        })?
+    {
+        return Err(SignalError::EmptyFile {
+            file: fpath.clone(),
+        });
+    }
+    let header: Vec<String> = record
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let s = String::from_utf8_lossy(b).trim().to_string();
+            if i == 0 {
+                s.trim_start_matches('\u{feff}').to_string()
+            } else {
+                s
+            }
+        })
+        .collect();
+    for (i, h) in header.iter().enumerate() {
+        if h.is_empty() {
+            return Err(SignalError::BadHeader {
+                file: fpath.clone(),
+                message: format!("column {} has no channel name", i + 1),
+            });
+        }
+        if header[..i].contains(h) {
+            return Err(SignalError::BadHeader {
+                file: fpath.clone(),
+                message: format!("channel name `{h}` appears twice"),
+            });
+        }
+    }
+    let time_col = header.iter().position(|h| is_time_column(h));
+    let available: Vec<&String> = header
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| Some(*i) != time_col)
+        .map(|(_, h)| h)
+        .collect();
+    let selected: Vec<usize> = match &opts.channels {
+        Some(list) => {
+            let mut v = Vec::new();
+            for name in list {
+                let i = header
+                    .iter()
+                    .position(|h| h == name)
+                    .filter(|i| Some(*i) != time_col)
+                    .ok_or_else(|| SignalError::NoSuchChannel {
+                        file: fpath.clone(),
+                        name: name.clone(),
+                        available: available
+                            .iter()
+                            .map(|s| s.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })?;
+                v.push(i);
+            }
+            v
+        }
+        None => (0..header.len()).filter(|i| Some(*i) != time_col).collect(),
+    };
+    if selected.is_empty() {
+        return Err(SignalError::BadHeader {
+            file: fpath.clone(),
+            message: format!(
+                "no data channel: the only column{} `{}` {}",
+                if header.len() > 1 { "s" } else { "" },
+                header.join(","),
+                if time_col.is_some() {
+                    "is a time column"
+                } else {
+                    "holds no channel"
+                }
+            ),
+        });
+    }
+    if time_col.is_none() && opts.fs.is_none() {
+        return Err(SignalError::NoSamplingRate {
+            file: fpath.clone(),
+        });
+    }
+    if let Some(fs) = opts.fs
+        && !(fs.is_finite() && fs > 0.0)
+    {
+        return Err(SignalError::BadParameter {
+            name: "fs",
+            value: fs.to_string(),
+            reason: "must be positive".into(),
+        });
+    }
+    for (name, _) in &opts.channel_units {
+        if !header.contains(name) {
+            return Err(SignalError::NoSuchChannel {
+                file: fpath.clone(),
+                name: name.clone(),
+                available: available
+                    .iter()
+                    .map(|s| s.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+        }
+    }
+    let channels: Vec<ChannelInfo> = selected
+        .iter()
+        .map(|&i| {
+            let name = header[i].clone();
+            let (unit, unit_source) =
+                if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
+                    (*u, UnitSource::Option)
+                } else if let Some(u) = Unit::from_name(&name) {
+                    (u, UnitSource::Name)
+                } else if let Some(u) = opts.default_unit {
+                    (u, UnitSource::Option)
+                } else {
+                    (Unit::AsIs, UnitSource::Default)
+                };
+            ChannelInfo {
+                name,
+                unit,
+                unit_source,
+                column: i,
+            }
+        })
+        .collect();
+    let factors: Vec<f64> = channels.iter().map(|c| c.unit.to_report_factor()).collect();
+
+    let ncols = header.len();
+    let mut slots: Vec<Option<(usize, f64)>> = vec![None; ncols];
+    let off = usize::from(time_col.is_some());
+    if let Some(tc) = time_col {
+        slots[tc] = Some((0, 1.0));
+    }
+    for (k, &c) in selected.iter().enumerate() {
+        slots[c] = Some((off + k, factors[k]));
+    }
+    let layout = RowLayout {
+        file: fpath.clone(),
+        header: header.clone(),
+        slots,
+        width: off + selected.len(),
+    };
+    let mut rows: u64 = 0;
+    let mut timing = Timing::new(opts, fpath.clone());
+    let mut feed = |vals: &[f64], lines: &[u64]| -> Result<(), SignalError> {
+        let w = layout.width;
+        for (row, &line) in vals.chunks_exact(w).zip(lines) {
+            rows += 1;
+            if time_col.is_some() {
+                timing.push(row[0], line, &row[1..], &mut sink)?;
+            } else {
+                sink(row);
+            }
+        }
+        Ok(())
+    };
+    // Small files get a buffer of their own size, not a whole block.
+    let size = std::fs::metadata(path).map_or(BLOCK_BYTES as u64, |m| m.len());
+    let block = (size as usize)
+        .saturating_add(1)
+        .clamp(1 << 12, BLOCK_BYTES);
+    read_rows(&mut reader, &layout, block, &mut feed)?;
+    if rows == 0 {
+        return Err(SignalError::HeaderOnly {
+            file: fpath.clone(),
+        });
+    }
+    let (fs_hz, samples, resampled) = match time_col {
+        Some(_) => timing.finish(&mut sink)?,
+        None => (opts.fs.unwrap_or(1.0), rows, None),
+    };
+    Ok(LogInfo {
+        file: fpath,
+        channels,
+        time_column: time_col.map(|i| header[i].clone()),
+        fs_hz,
+        samples,
+        resampled,
+    })
+}
+
+/// Where each needed column of a row goes: `slots[column] = (index in the row, unit factor)`;
+/// the time (if any) is index 0.
+struct RowLayout {
+    file: PathBuf,
+    header: Vec<String>,
+    slots: Vec<Option<(usize, f64)>>,
+    width: usize,
+}
+
+/// Rows parsed from one chunk of the file: values (`width` per row), line numbers, and the
+/// error that stopped the chunk, if any (rows before it are kept, so errors come out in file
+/// order exactly as a sequential reader would give them).
+#[derive(Default)]
+struct Parsed {
+    vals: Vec<f64>,
+    lines: Vec<u64>,
+    err: Option<SignalError>,
+    count: u64,
+}
+
+/// Parses one line (no newline) into `out`; `Ok(false)` for a blank line. One pass over the
+/// bytes: fields are cut at commas as they come, and only the needed ones are parsed.
+fn parse_line(
+    line: &[u8],
+    line_no: u64,
+    l: &RowLayout,
+    out: &mut Vec<f64>,
+) -> Result<bool, SignalError> {
+    let line = line.strip_suffix(b"\r").unwrap_or(line);
+    if line.is_empty() {
+        return Ok(false);
+    }
+    let base = out.len();
+    out.resize(base + l.width, 0.0);
+    let ncols = l.slots.len();
+    let mut c = 0usize;
+    let mut start = 0usize;
+    let mut bad: Option<(usize, usize, usize)> = None;
+    loop {
+        let end = memchr::memchr(b',', &line[start..]).map_or(line.len(), |p| start + p);
+        if c < ncols
+            && let Some((k, factor)) = l.slots[c]
+        {
+            match parse_cell(&line[start..end]) {
+                Some(v) => out[base + k] = v * factor,
+                None => {
+                    if bad.is_none() {
+                        bad = Some((c, start, end));
+                    }
+                }
+            }
+        }
+        c += 1;
+        if end == line.len() {
+            break;
+        }
+        start = end + 1;
+    }
+    if c != ncols {
+        out.truncate(base);
+        // A line of blanks is a blank line, not a one-field row.
+        if c == 1 && line.trim_ascii().is_empty() {
+            return Ok(false);
+        }
+        return Err(SignalError::RaggedRow {
+            file: l.file.clone(),
+            line: line_no,
+            expected: ncols,
+            found: c,
+        });
+    }
+    if let Some((col, a, b)) = bad {
+        out.truncate(base);
+        if ncols == 1 && line.trim_ascii().is_empty() {
+            return Ok(false);
+        }
+        return Err(bad_cell(&l.file, line_no, &l.header[col], &line[a..b]));
+    }
+    Ok(true)
+}
+
+/// Fast path for the common line `num,num,...,num` (no blanks, no quotes, every needed cell a
+/// finite number, the right field count): parses it in place, fields cut by the number parser
+/// itself. Returns the bytes consumed and whether a newline ended the line, or `None` (with
+/// `out` untouched) for anything else, which `parse_line` then judges and reports.
+fn fast_line(bytes: &[u8], l: &RowLayout, out: &mut Vec<f64>) -> Option<(usize, bool)> {
+    let base = out.len();
+    out.resize(base + l.width, 0.0);
+    let r = (|| {
+        let ncols = l.slots.len();
+        let mut i = 0usize;
+        for c in 0..ncols {
+            match l.slots[c] {
+                Some((k, factor)) => {
+                    let (v, used): (f64, usize) = fast_float2::parse_partial(&bytes[i..]).ok()?;
+                    if used == 0 || !v.is_finite() {
+                        return None;
+                    }
+                    out[base + k] = v * factor;
+                    i += used;
+                }
+                None => {
+                    i = memchr::memchr2(b',', b'\n', &bytes[i..]).map_or(bytes.len(), |q| i + q);
+                }
+            }
+            if c + 1 < ncols {
+                if bytes.get(i) != Some(&b',') {
+                    return None;
+                }
+                i += 1;
+            } else {
+                return match (bytes.get(i), bytes.get(i + 1)) {
+                    (None, _) => Some((i, false)),
+                    (Some(b'\n'), _) => Some((i + 1, true)),
+                    (Some(b'\r'), Some(b'\n')) => Some((i + 2, true)),
+                    (Some(b'\r'), None) => Some((i + 1, false)),
+                    _ => None,
+                };
+            }
+        }
+        None
+    })();
+    if r.is_none() {
+        out.truncate(base);
+    }
+    r
+}
+
+/// Parses the lines of `chunk` with line numbers counted from 0 within it (the caller adds the
+/// chunk's first line once the line counts of the chunks before it are known, so that no
+/// separate pass has to count newlines). `count` is the number of lines seen.
+fn parse_chunk(chunk: &[u8], l: &RowLayout) -> Parsed {
+    let mut p = Parsed {
+        vals: Vec::with_capacity(chunk.len() / 8),
+        lines: Vec::with_capacity(chunk.len() / 24),
+        err: None,
+        count: 0,
+    };
+    let mut start = 0usize;
+    loop {
+        let n = p.count;
+        p.count += 1;
+        if let Some((used, more)) = fast_line(&chunk[start..], l, &mut p.vals) {
+            p.lines.push(n);
+            if !more {
+                break;
+            }
+            start += used;
+            continue;
+        }
+        let end = memchr::memchr(b'\n', &chunk[start..]).map_or(chunk.len(), |q| start + q);
+        match parse_line(&chunk[start..end], n, l, &mut p.vals) {
+            Ok(true) => p.lines.push(n),
+            Ok(false) => {}
+            Err(e) => {
+                p.vals.truncate(p.lines.len() * l.width);
+                p.err = Some(e);
+                break;
+            }
+        }
+        if end == chunk.len() {
+            break;
+        }
+        start = end + 1;
+    }
+    p
+}
+
+/// The same error placed `offset` lines further down the file.
+fn shift_line(e: SignalError, offset: u64) -> SignalError {
+    match e {
+        SignalError::RaggedRow {
+            file,
+            line,
+            expected,
+            found,
+        } => SignalError::RaggedRow {
+            file,
+            line: line + offset,
+            expected,
+            found,
+        },
+        SignalError::BadCell {
+            file,
+            line,
+            column,
+            text,
+            what,
+        } => SignalError::BadCell {
+            file,
+            line: line + offset,
+            column,
+            text,
+            what,
+        },
+        other => other,
+    }
+}
+
+/// A quoted block goes through the csv crate (quotes may hide commas); plain blocks, the
+/// common case for numeric logs, are split on commas directly.
+fn parse_quoted(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
+    let mut p = Parsed::default();
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(chunk);
+    let mut rec = csv::ByteRecord::new();
+    loop {
+        match rdr.read_byte_record(&mut rec) {
+            Ok(false) => break,
+            Ok(true) => {}
+            Err(e) => {
+                p.err = Some(SignalError::Unsupported {
+                    file: l.file.clone(),
+                    message: e.to_string(),
+                });
+                break;
+            }
+        }
+        let n = first_line + rec.position().map_or(1, |q| q.line()) - 1;
+        if rec.len() == 1 && rec.get(0).is_some_and(|b| b.trim_ascii().is_empty()) {
+            continue;
+        }
+        if rec.len() != l.slots.len() {
+            p.err = Some(SignalError::RaggedRow {
+                file: l.file.clone(),
+                line: n,
+                expected: l.slots.len(),
+                found: rec.len(),
+            });
+            break;
+        }
+        let base = p.vals.len();
+        p.vals.resize(base + l.width, 0.0);
+        for (c, cell) in rec.iter().enumerate() {
+            if let Some((k, factor)) = l.slots[c] {
+                match parse_cell(cell) {
+                    Some(v) => p.vals[base + k] = v * factor,
+                    None => {
+                        p.vals.truncate(base);
+                        p.err = Some(bad_cell(&l.file, n, &l.header[c], cell));
+                        return p;
+                    }
+                }
+            }
+        }
+        p.lines.push(n);
+    }
+    p
+}
+
+/// Bytes read per block: the memory bound of the reader (two blocks at most are alive).
+const BLOCK_BYTES: usize = 4 << 20;
+/// A line longer than this is not a log row (binary junk past the sniffed head).
+const MAX_LINE_BYTES: usize = 64 << 20;
+
+/// Reads the rows after the header in blocks cut at newlines, parses each block's pieces in
+/// parallel (rayon), and hands the rows to `feed` in file order.
+fn read_rows(
+    reader: &mut impl Read,
+    l: &RowLayout,
+    block: usize,
+    feed: &mut impl FnMut(&[f64], &[u64]) -> Result<(), SignalError>,
+) -> Result<(), SignalError> {
+    use rayon::prelude::*;
+    let mut next_line: u64 = 2;
+    let mut carry: Vec<u8> = Vec::new();
+    let pieces = (rayon::current_num_threads() * 4).max(1);
+    loop {
+        let mut buf = std::mem::take(&mut carry);
+        let have = buf.len();
+        buf.resize(have + block, 0);
+        let mut got = 0;
+        while have + got < buf.len() {
+            let n = reader
+                .read(&mut buf[have + got..])
+                .map_err(|e| io_error(&l.file, e))?;
+            if n == 0 {
+                break;
+            }
+            got += n;
+        }
+        let eof = have + got < buf.len();
+        buf.truncate(have + got);
+        if buf.is_empty() {
+            return Ok(());
+        }
+        let cut = if eof {
+            buf.len()
+        } else {
+            match buf.iter().rposition(|&b| b == b'\n') {
+                Some(p) => p + 1,
+                None if buf.len() > MAX_LINE_BYTES => {
+                    return Err(SignalError::Unsupported {
+                        file: l.file.clone(),
+                        message: format!(
+                            "line {next_line} is longer than {MAX_LINE_BYTES} bytes: not a log"
+                        ),
+                    });
+                }
+                None => {
+                    carry = buf;
+                    continue;
+                }
+            }
+        };
+        carry = buf[cut..].to_vec();
+        buf.truncate(cut);
+        let body = buf.strip_suffix(b"\n").unwrap_or(&buf);
+        // Pieces end at newlines; each is parsed with its own line numbers from 0, placed in
+        // the file once the pieces before it have reported their line counts.
+        let mut bounds = vec![0usize];
+        for k in 1..pieces {
+            let target = body.len() * k / pieces;
+            let from = *bounds.last().unwrap_or(&0);
+            if target <= from {
+                continue;
+            }
+            if let Some(p) = memchr::memchr(b'\n', &body[target..]) {
+                bounds.push(target + p + 1);
+            }
+        }
+        bounds.push(body.len() + 1);
+        bounds.dedup();
+        let spans: Vec<(usize, usize)> = bounds.windows(2).map(|w| (w[0], w[1] - 1)).collect();
+        if body.contains(&b'"') {
+            let p = parse_quoted(body, next_line, l);
+            feed(&p.vals, &p.lines)?;
+            if let Some(e) = p.err {
+                return Err(e);
+            }
+            next_line += memchr::memchr_iter(b'\n', &buf).count() as u64;
+        } else {
+            let parsed: Vec<Parsed> = spans
+                .par_iter()
+                .map(|&(a, b)| parse_chunk(&body[a..b], l))
+                .collect();
+            for mut p in parsed {
+                let offset = next_line;
+                p.lines.iter_mut().for_each(|n| *n += offset);
+                feed(&p.vals, &p.lines)?;
+                if let Some(e) = p.err {
+                    return Err(shift_line(e, offset));
+                }
+                next_line += p.count;
+            }
+            // Pieces are separated by one newline each, counted in `count`; the block's final
+            // newline (absent at the end of a file without one) ends the last piece's last line.
+            next_line -= 1;
+            next_line += u64::from(buf.ends_with(b"\n"));
+        }
+        if eof {
+            return Ok(());
+        }
+    }
+}
+
+/// Rows kept before the sampling interval is fixed: the median of their steps is robust to one
+/// odd step at the start of the log.
+const PRIME_ROWS: usize = 33;
+
+/// Largest step, in sampling intervals, that `resample` bridges by interpolation.
+const MAX_RESAMPLE_GAP: f64 = 100.0;
+
+/// Time-column checks and, with `resample`, streaming linear interpolation onto a uniform grid.
+struct Timing {
+    file: PathBuf,
+    resample: bool,
+    tol: f64,
+    fs_option: Option<f64>,
+    primed: Vec<(f64, u64, Vec<f64>)>,
+    dt: f64,
+    t0: f64,
+    prev: Option<f64>,
+    prev_row: Vec<f64>,
+    rows: u64,
+    emitted: u64,
+    irregular: u64,
+    first_irregular: u64,
+    largest: f64,
+    last_t: f64,
+    out: Vec<f64>,
+}
+
+impl Timing {
+    fn new(opts: &IngestOptions, file: PathBuf) -> Timing {
+        Timing {
+            file,
+            resample: opts.resample,
+            tol: opts.jitter_tolerance,
+            fs_option: opts.fs,
+            primed: Vec::new(),
+            dt: 0.0,
+            t0: 0.0,
+            prev: None,
+            prev_row: Vec::new(),
+            rows: 0,
+            emitted: 0,
+            irregular: 0,
+            first_irregular: 0,
+            largest: 0.0,
+            last_t: 0.0,
+            out: Vec::new(),
+        }
+    }
+
+    fn push(
+        &mut self,
+        t: f64,
+        line: u64,
+        row: &[f64],
+        sink: &mut impl FnMut(&[f64]),
+    ) -> Result<(), SignalError> {
+        if let Some(pt) = self.primed.last().map(|p| p.0).or(self.prev)
+            && t <= pt
+        {
+            return Err(SignalError::NonMonotonicTime {
+                file: self.file.clone(),
+                line,
+                time: t,
+                previous: pt,
+            });
+        }
+        self.rows += 1;
+        self.last_t = t;
+        if self.dt == 0.0 {
+            self.primed.push((t, line, row.to_vec()));
+            if self.primed.len() == PRIME_ROWS {
+                self.start(sink)?;
+            }
+            return Ok(());
+        }
+        self.accept(t, line, row, sink)
+    }
+
+    fn start(&mut self, sink: &mut impl FnMut(&[f64])) -> Result<(), SignalError> {
+        let primed = std::mem::take(&mut self.primed);
+        let mut steps: Vec<f64> = primed.windows(2).map(|w| w[1].0 - w[0].0).collect();
+        steps.sort_by(|a, b| a.total_cmp(b));
+        self.dt = match self.fs_option {
+            Some(fs) => 1.0 / fs,
+            None => steps.get(steps.len() / 2).copied().unwrap_or(1.0),
+        };
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(SignalError::NoSamplingRate {
+                file: self.file.clone(),
+            });
+        }
+        self.t0 = primed.first().map_or(0.0, |p| p.0);
+        for (t, line, row) in primed {
+            self.accept(t, line, &row, sink)?;
+        }
+        Ok(())
+    }
+
+    fn accept(
+        &mut self,
+        t: f64,
+        line: u64,
+        row: &[f64],
+        sink: &mut impl FnMut(&[f64]),
+    ) -> Result<(), SignalError> {
+        let Some(pt) = self.prev else {
+            sink(row);
+            self.emitted = 1;
+            self.prev = Some(t);
+            self.prev_row.clear();
+            self.prev_row.extend_from_slice(row);
+            return Ok(());
+        };
+        let step = t - pt;
+        let off = (step - self.dt).abs() > self.tol * self.dt;
+        if off {
+            if !self.resample {
+                return Err(SignalError::NonUniformTime {
+                    file: self.file.clone(),
+                    line,
+                    dt: step,
+                    expected_dt: self.dt,
+                    tolerance_pct: self.tol * 100.0,
+                });
+            }
+            // Interpolating across a gap of many intervals would invent data (and a gap of
+            // 1e9 intervals would never end): refuse it.
+            if step.is_nan() || step > MAX_RESAMPLE_GAP * self.dt {
+                return Err(SignalError::ResampleGap {
+                    file: self.file.clone(),
+                    line,
+                    dt: step,
+                    expected_dt: self.dt,
+                    max_steps: MAX_RESAMPLE_GAP,
+                });
+            }
+            if self.irregular == 0 {
+                self.first_irregular = line;
+            }
+            self.irregular += 1;
+        }
+        self.largest = self.largest.max(step);
+        if self.resample {
+            // Emit every grid time in (pt, t] by linear interpolation between the two rows.
+            loop {
+                let tg = self.t0 + self.emitted as f64 * self.dt;
+                if tg > t + 1e-9 * self.dt {
+                    break;
+                }
+                let a = ((tg - pt) / step).clamp(0.0, 1.0);
+                self.out.clear();
+                self.out
+                    .extend(self.prev_row.iter().zip(row).map(|(p, v)| p + a * (v - p)));
+                sink(&self.out);
+                self.emitted += 1;
+            }
+        } else {
+            sink(row);
+            self.emitted += 1;
+        }
+        self.prev = Some(t);
+        self.prev_row.clear();
+        self.prev_row.extend_from_slice(row);
+        Ok(())
+    }
+
+    fn finish(
+        mut self,
+        sink: &mut impl FnMut(&[f64]),
+    ) -> Result<(f64, u64, Option<ResampleReport>), SignalError> {
+        if self.dt == 0.0 {
+            if self.primed.len() < 2 && self.fs_option.is_none() {
+                return Err(SignalError::NoSamplingRate {
+                    file: self.file.clone(),
+                });
+            }
+            self.start(sink)?;
+        }
+        let fs = if self.resample && self.irregular > 0 {
+            1.0 / self.dt
+        } else if let Some(fs) = self.fs_option {
+            // The caller's rate wins, but it must describe the same log.
+            if self.rows > 1 {
+                let from_time = (self.rows - 1) as f64 / (self.last_t - self.t0);
+                if (from_time - fs).abs() > self.tol * fs {
+                    return Err(SignalError::BadParameter {
+                        name: "fs",
+                        value: fs.to_string(),
+                        reason: format!(
+                            "the time column of {} gives {from_time:.6} Hz",
+                            self.file.display()
+                        ),
+                    });
+                }
+            }
+            fs
+        } else {
+            // The span of a uniform log fixes the rate better than one rounded step.
+            (self.rows - 1) as f64 / (self.last_t - self.t0)
+        };
+        if !(fs.is_finite() && fs > 0.0) {
+            return Err(SignalError::NoSamplingRate {
+                file: self.file.clone(),
+            });
+        }
+        let report = (self.resample && self.irregular > 0).then_some(ResampleReport {
+            uniform_dt_s: self.dt,
+            irregular_rows: self.irregular,
+            first_irregular_line: self.first_irregular,
+            largest_step_s: self.largest,
+            input_rows: self.rows,
+            output_samples: self.emitted,
+        });
+        Ok((fs, self.emitted, report))
+    }
+}
+
+/// Reads a whole CSV log into memory (for FRF, sweep and signature work on short records).
+pub fn read_csv(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
+    let mut data: Vec<Vec<f64>> = Vec::new();
+    let info = stream_csv(path, opts, |row| {
+        if data.is_empty() {
+            data = vec![Vec::new(); row.len()];
+        }
+        for (d, v) in data.iter_mut().zip(row) {
+            d.push(*v);
+        }
+    })?;
+    if data.is_empty() {
+        data = vec![Vec::new(); info.channels.len()];
+    }
+    Ok(Log { info, data })
+}

@@ -1,0 +1,247 @@
+//! PSD of every selected channel of a log file: the `psd` command's analysis, reusable by the
+//! `qualify` pipeline. A CSV log is streamed through [`WelchStream`] (memory flat in the file
+//! length); a UFF58 file gives either time histories (function type 1, sent through Welch) or
+//! spectra already computed by a controller (function type 9, PSD), taken as they are.
+
+use super::bands::rms_of;
+use super::ingest::{IngestOptions, LogInfo, Unit, stream_csv};
+use super::uff::{looks_like_uff, read_uff58};
+use super::welch::{Psd, WelchOptions, WelchStream, welch};
+use crate::error::SignalError;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::Path;
+
+/// Where the spectrum of a channel came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PsdSource {
+    /// Welch on a CSV time history.
+    CsvWelch,
+    /// Welch on a UFF58 time history.
+    UffWelch,
+    /// A PSD record read from UFF58 as it is.
+    UffPsd,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChannelPsd {
+    pub name: String,
+    /// Unit of the spectrum's amplitude ("g" for accelerations, else "as-is").
+    pub unit: String,
+    pub psd: Psd,
+    /// √∫PSD df over all lines.
+    pub grms: f64,
+    /// Time-domain RMS (mean included); `None` for a spectrum read from a file.
+    pub rms: Option<f64>,
+    pub samples: u64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogPsd {
+    pub source: PsdSource,
+    pub fs_hz: f64,
+    pub info: Option<LogInfo>,
+    pub channels: Vec<ChannelPsd>,
+}
+
+/// Computes (or, for UFF PSD records, reads) the PSD of the selected channels of `path`.
+pub fn psd_of_file(
+    path: &Path,
+    ingest: &IngestOptions,
+    opts: &WelchOptions,
+) -> Result<LogPsd, SignalError> {
+    opts.validate()?;
+    if looks_like_uff(path) {
+        return psd_of_uff(path, ingest, opts);
+    }
+    // Names are known only once the header is read: the stream is built on the first row.
+    let mut stream: Option<WelchStream> = None;
+    let mut sumsq: Vec<f64> = Vec::new();
+    let mut init_err: Option<SignalError> = None;
+    let info = stream_csv(path, ingest, |row| {
+        if stream.is_none() && init_err.is_none() {
+            let names: Vec<String> = (0..row.len()).map(|i| i.to_string()).collect();
+            match WelchStream::new(&names, &[], opts) {
+                Ok(s) => stream = Some(s),
+                Err(e) => init_err = Some(e),
+            }
+            sumsq = vec![0.0; row.len()];
+        }
+        if let Some(s) = stream.as_mut() {
+            s.push_row(row);
+        }
+        for (a, v) in sumsq.iter_mut().zip(row) {
+            *a += v * v;
+        }
+    })?;
+    if let Some(e) = init_err {
+        return Err(e);
+    }
+    let stream = stream.ok_or_else(|| SignalError::HeaderOnly {
+        file: path.to_path_buf(),
+    })?;
+    let result = stream.finish(info.fs_hz).map_err(|e| match e {
+        SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
+            nperseg,
+            len,
+            channel: format!(
+                "{} of {}",
+                info.channels.first().map_or("", |c| c.name.as_str()),
+                path.display()
+            ),
+        },
+        other => other,
+    })?;
+    let n = info.samples.max(1) as f64;
+    let channels = info
+        .channels
+        .iter()
+        .zip(result.auto)
+        .zip(&sumsq)
+        .map(|((c, psd), s)| ChannelPsd {
+            name: c.name.clone(),
+            unit: c.unit.reported().to_string(),
+            grms: rms_of(&psd.frequencies(), &psd.values),
+            psd,
+            rms: Some((s / n).sqrt()),
+            samples: info.samples,
+        })
+        .collect();
+    Ok(LogPsd {
+        source: PsdSource::CsvWelch,
+        fs_hz: info.fs_hz,
+        info: Some(info),
+        channels,
+    })
+}
+
+fn uff_unit(label: &str, ingest: &IngestOptions, name: &str) -> Unit {
+    if let Some((_, u)) = ingest.channel_units.iter().find(|(n, _)| n == name) {
+        return *u;
+    }
+    let l = label.to_ascii_lowercase();
+    if l.starts_with("m/s") {
+        Unit::MPerS2
+    } else if l.starts_with('g') {
+        Unit::G
+    } else {
+        ingest.default_unit.unwrap_or(Unit::AsIs)
+    }
+}
+
+fn psd_of_uff(
+    path: &Path,
+    ingest: &IngestOptions,
+    opts: &WelchOptions,
+) -> Result<LogPsd, SignalError> {
+    let records = read_uff58(path)?;
+    let named: Vec<(String, &super::uff::UffRecord)> = records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            (
+                if r.id4.is_empty() {
+                    format!("record {}", i + 1)
+                } else {
+                    r.id4.clone()
+                },
+                r,
+            )
+        })
+        .collect();
+    let chosen: Vec<&(String, &super::uff::UffRecord)> = match &ingest.channels {
+        Some(list) => list
+            .iter()
+            .map(|n| {
+                named
+                    .iter()
+                    .find(|(m, _)| m == n)
+                    .ok_or_else(|| SignalError::NoSuchChannel {
+                        file: path.to_path_buf(),
+                        name: n.clone(),
+                        available: named
+                            .iter()
+                            .map(|(m, _)| m.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })
+            })
+            .collect::<Result<_, _>>()?,
+        None => named.iter().collect(),
+    };
+    let kinds: Vec<i64> = chosen.iter().map(|(_, r)| r.function_type).collect();
+    let all_psd = kinds.iter().all(|&k| k == 9);
+    let all_time = kinds.iter().all(|&k| k == 1);
+    if !(all_psd || all_time) {
+        return Err(SignalError::Unsupported {
+            file: path.to_path_buf(),
+            message: format!(
+                "UFF58 function types {kinds:?}: expected all time histories (1) or all PSDs (9)"
+            ),
+        });
+    }
+    let channels: Vec<ChannelPsd> = chosen
+        .par_iter()
+        .map(|(name, r)| {
+            let step = r.uniform_step().ok_or_else(|| SignalError::Uff {
+                file: path.to_path_buf(),
+                line: r.line,
+                message: "the abscissa is not evenly spaced".into(),
+            })?;
+            let unit = uff_unit(&r.ordinate_label, ingest, name);
+            let k = unit.to_report_factor();
+            if all_psd {
+                // A PSD scales with the square of the amplitude unit.
+                let first = r.abscissa[0];
+                let offset = (first / step).round();
+                if (first - offset * step).abs() > 1e-6 * step || offset < 0.0 {
+                    return Err(SignalError::Uff {
+                        file: path.to_path_buf(),
+                        line: r.line,
+                        message: format!("the PSD starts at {first} Hz, not on a multiple of its {step} Hz spacing"),
+                    });
+                }
+                let mut values = vec![0.0; offset as usize];
+                values.extend(r.re.iter().map(|v| v * k * k));
+                let psd = Psd::from_lines(step, values);
+                Ok(ChannelPsd {
+                    name: name.clone(),
+                    unit: unit.reported().into(),
+                    grms: rms_of(&psd.frequencies(), &psd.values),
+                    psd,
+                    rms: None,
+                    samples: 0,
+                })
+            } else {
+                let x: Vec<f64> = r.re.iter().map(|v| v * k).collect();
+                let psd = welch(&x, 1.0 / step, opts).map_err(|e| match e {
+                    SignalError::SegmentTooLong { nperseg, len, .. } => {
+                        SignalError::SegmentTooLong { nperseg, len, channel: name.clone() }
+                    }
+                    o => o,
+                })?;
+                let rms = (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
+                Ok(ChannelPsd {
+                    name: name.clone(),
+                    unit: unit.reported().into(),
+                    grms: rms_of(&psd.frequencies(), &psd.values),
+                    psd,
+                    rms: Some(rms),
+                    samples: x.len() as u64,
+                })
+            }
+        })
+        .collect::<Result<_, _>>()?;
+    let fs_hz = channels.first().map_or(0.0, |c| c.psd.fs);
+    Ok(LogPsd {
+        source: if all_psd {
+            PsdSource::UffPsd
+        } else {
+            PsdSource::UffWelch
+        },
+        fs_hz,
+        info: None,
+        channels,
+    })
+}

@@ -1,0 +1,158 @@
+//! Peak picking on spectra and resonance picking on |H|: local maxima kept by prominence (in
+//! dB, as scipy.signal.find_peaks defines it), located between bins by a parabola through the
+//! three bins around the maximum, and, for resonances, the half-power bandwidth interpolated
+//! linearly between bins to give Q = f / Δf.
+//!
+//! Inputs are the lines of a [`super::Psd`] or of an FRF magnitude, on increasing frequencies.
+
+use serde::Serialize;
+
+/// A spectral peak.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Peak {
+    pub frequency_hz: f64,
+    pub value: f64,
+    /// Prominence in dB.
+    pub prominence_db: f64,
+    /// Line of the maximum.
+    pub line: usize,
+}
+
+/// Which peaks to keep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeakOptions {
+    /// Smallest prominence kept, dB.
+    pub min_prominence_db: f64,
+    /// Most peaks returned (the highest ones), reported in frequency order.
+    pub max_peaks: usize,
+    pub f_min_hz: f64,
+    pub f_max_hz: f64,
+    /// 10 for power quantities (PSD), 20 for amplitudes (|H|).
+    pub db_per_decade: f64,
+}
+
+impl Default for PeakOptions {
+    fn default() -> Self {
+        PeakOptions {
+            min_prominence_db: 6.0,
+            max_peaks: 5,
+            f_min_hz: 0.0,
+            f_max_hz: f64::INFINITY,
+            db_per_decade: 10.0,
+        }
+    }
+}
+
+fn db(v: f64, k: f64) -> f64 {
+    k * v.max(1e-300).log10()
+}
+
+/// Parabolic interpolation through lines i-1, i, i+1: (fractional offset, value at the vertex).
+pub fn parabolic(values: &[f64], i: usize) -> (f64, f64) {
+    if i == 0 || i + 1 >= values.len() {
+        return (0.0, values.get(i).copied().unwrap_or(0.0));
+    }
+    let (a, b, c) = (values[i - 1], values[i], values[i + 1]);
+    let den = a - 2.0 * b + c;
+    if den >= 0.0 || !den.is_finite() {
+        return (0.0, b);
+    }
+    let p = (0.5 * (a - c) / den).clamp(-0.5, 0.5);
+    (p, b - 0.25 * (a - c) * p)
+}
+
+fn freq_at(freqs: &[f64], i: usize, p: f64) -> f64 {
+    if p >= 0.0 {
+        freqs[i] + p * (freqs.get(i + 1).copied().unwrap_or(freqs[i]) - freqs[i])
+    } else {
+        freqs[i] + p * (freqs[i] - freqs[i.saturating_sub(1)])
+    }
+}
+
+/// Prominent peaks of `values` (non-negative) on increasing `freqs`.
+pub fn find_peaks(freqs: &[f64], values: &[f64], opts: &PeakOptions) -> Vec<Peak> {
+    let n = values.len().min(freqs.len());
+    if n < 3 {
+        return Vec::new();
+    }
+    let k = opts.db_per_decade;
+    let lv: Vec<f64> = values[..n].iter().map(|&v| db(v, k)).collect();
+    let mut found = Vec::new();
+    for i in 1..n - 1 {
+        if !(lv[i] > lv[i - 1] && lv[i] >= lv[i + 1])
+            || freqs[i] < opts.f_min_hz
+            || freqs[i] > opts.f_max_hz
+        {
+            continue;
+        }
+        // Bases: the lowest point on each side before a higher one (or the end).
+        let mut left_min = lv[i];
+        let mut j = i;
+        while j > 0 {
+            j -= 1;
+            if lv[j] > lv[i] {
+                break;
+            }
+            left_min = left_min.min(lv[j]);
+        }
+        let mut right_min = lv[i];
+        let mut j = i;
+        while j + 1 < n {
+            j += 1;
+            if lv[j] > lv[i] {
+                break;
+            }
+            right_min = right_min.min(lv[j]);
+        }
+        let prominence = lv[i] - left_min.max(right_min);
+        if prominence >= opts.min_prominence_db {
+            let (p, v) = parabolic(&values[..n], i);
+            found.push(Peak {
+                frequency_hz: freq_at(freqs, i, p),
+                value: v,
+                prominence_db: prominence,
+                line: i,
+            });
+        }
+    }
+    found.sort_by(|a, b| b.value.total_cmp(&a.value).then(a.line.cmp(&b.line)));
+    found.truncate(opts.max_peaks);
+    found.sort_by_key(|p| p.line);
+    found
+}
+
+/// Half-power (−3 dB) bandwidth around line `i` of the amplitude `mag`, for a peak of height
+/// `peak`: the two crossings of peak/√2, interpolated linearly. `None` when a side reaches a
+/// higher peak or the end of the data before crossing (Q is then not measurable).
+pub fn half_power_band(freqs: &[f64], mag: &[f64], i: usize, peak: f64) -> Option<(f64, f64)> {
+    let level = peak / std::f64::consts::SQRT_2;
+    let mut j = i;
+    let lo = loop {
+        if j == 0 {
+            return None;
+        }
+        j -= 1;
+        if mag[j] > peak {
+            return None;
+        }
+        if mag[j] < level {
+            let t = (level - mag[j]) / (mag[j + 1] - mag[j]);
+            break freqs[j] + t * (freqs[j + 1] - freqs[j]);
+        }
+    };
+    let mut j = i;
+    let hi = loop {
+        if j + 1 >= mag.len() {
+            return None;
+        }
+        j += 1;
+        if mag[j] > peak {
+            return None;
+        }
+        if mag[j] < level {
+            let t = (mag[j - 1] - level) / (mag[j - 1] - mag[j]);
+            break freqs[j - 1] + t * (freqs[j] - freqs[j - 1]);
+        }
+    };
+    Some((lo, hi))
+}

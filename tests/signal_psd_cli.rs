@@ -1,0 +1,117 @@
+//! `satqual psd` end to end on measured data: the USC shaker-beam multi-tone sine dwell
+//! (data/realdata/usc-shaker-beam/data_set_1_3200Hz.csv, CC BY-SA 4.0; see its SOURCE.md).
+//! SOURCE.md anchors: Welch PSD of acceleration peaks at exactly 100, 120, 150 Hz; acceleration
+//! RMS 0.078 g (test 1); fs = 3200 Hz (dt = 312.5 µs).
+
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn file() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("data/realdata/usc-shaker-beam/data_set_1_3200Hz.csv")
+}
+
+#[test]
+fn shaker_beam_psd_peaks_rms_and_outputs() {
+    let out = std::env::temp_dir().join(format!("satqual-sig-psdcli-{}", std::process::id()));
+    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
+        .args([
+            "psd",
+            file().to_str().unwrap(),
+            "--channels",
+            "acceleration_g",
+            "--nperseg",
+            "3200",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    // fs from the time column: 3200 Hz to 1e-6 (times printed with 8+ digits).
+    assert!(
+        (v["fs_hz"].as_f64().unwrap() - 3200.0).abs() < 3200.0 * 1e-6,
+        "{}",
+        v["fs_hz"]
+    );
+    assert_eq!(v["nperseg"], 3200);
+    assert!((v["frequency_resolution_hz"].as_f64().unwrap() - 1.0).abs() < 1e-6);
+    let ch = &v["channels"][0];
+    assert_eq!(ch["name"], "acceleration_g");
+    assert_eq!(ch["unit"], "g");
+    // SOURCE.md: RMS 0.078 g (two significant digits: ±0.0005).
+    let rms = ch["rms"].as_f64().unwrap();
+    assert!((rms - 0.078).abs() < 0.0005, "{rms}");
+    // Grms from the PSD excludes only the mean: it cannot exceed the RMS.
+    assert!(ch["grms"].as_f64().unwrap() <= rms * (1.0 + 1e-9));
+    let peaks: Vec<f64> = ch["peaks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["frequency_hz"].as_f64().unwrap())
+        .collect();
+    for tone in [100.0, 120.0, 150.0] {
+        // The tones sit on 1 Hz lines: the interpolated peak must be within a tenth of a line.
+        assert!(
+            peaks.iter().any(|f| (f - tone).abs() < 0.1),
+            "{tone} Hz not in {peaks:?}"
+        );
+    }
+    let svg = std::fs::read_to_string(out.join("psd.svg")).unwrap();
+    assert!(
+        svg.starts_with("<svg") && svg.contains("Grms"),
+        "legend with Grms"
+    );
+    let csv = std::fs::read_to_string(out.join("psd.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 1601);
+    assert!(
+        std::fs::read_to_string(out.join("third_octave.csv"))
+            .unwrap()
+            .lines()
+            .count()
+            > 10
+    );
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn frf_cli_writes_curves_and_plots() {
+    let out = std::env::temp_dir().join(format!("satqual-sig-frfcli-{}", std::process::id()));
+    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
+        .args([
+            "frf",
+            file().to_str().unwrap(),
+            "--input",
+            "force_lbf",
+            "--output",
+            "acceleration_g",
+            "--nperseg",
+            "3200",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["peaks"].is_array());
+    for p in v["peaks"].as_array().unwrap() {
+        for k in ["frequency_hz", "magnitude", "q", "coherence"] {
+            assert!(p.get(k).is_some(), "{k} missing in {p}");
+        }
+    }
+    for f in ["frf.csv", "frf.svg", "coherence.svg"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    std::fs::remove_dir_all(&out).ok();
+}
