@@ -159,6 +159,8 @@ pub struct Qualification {
     pub response: Option<crate::response::SceneResponse>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub separation: Option<SeparationSummary>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub test_data: Option<TestDataSummary>,
     pub paper_comparison: Vec<PaperComparison>,
     pub assumptions: Vec<String>,
     pub provenance: Provenance,
@@ -451,11 +453,16 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
         });
     }
 
+    let mut test_summary = None;
     if f.test_log.is_empty() {
         skipped.push(Skipped {
             analysis: "test data".into(),
             reason: "the scene lists no [[test_log]]".into(),
         });
+    } else {
+        progress.stage("test data");
+        test_summary = Some(test_data(scene, &limits, &mut gates)?);
+        ran.push("test data".to_string());
     }
 
     let assumptions = assumption_lines(&scene.text);
@@ -470,6 +477,7 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
         modal: modal_summary,
         response: response_result,
         separation: sep_summary,
+        test_data: test_summary,
         paper_comparison: comparison,
         assumptions,
         provenance: Provenance {
@@ -514,4 +522,290 @@ fn assumption_lines(text: &str) -> Vec<String> {
         out.push(cur);
     }
     out
+}
+
+/// What one measured log gave.
+#[derive(Debug, Clone, Serialize)]
+pub struct TestLogResult {
+    pub name: String,
+    pub file: String,
+    pub kind: crate::spec::LogKind,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<crate::signal::ToleranceReport>,
+    /// Grms of every channel.
+    pub channels: Vec<(String, f64)>,
+    /// Resonances of the FRF control -> first response (sweep and signature logs).
+    pub resonances: Vec<crate::signal::Resonance>,
+    /// Curves for the report: (label, [(f, value)]).
+    #[serde(skip)]
+    pub curves: Vec<(String, Vec<(f64, f64)>)>,
+    #[serde(skip)]
+    pub log_scale_y: bool,
+}
+
+/// The test-data part of a qualification.
+#[derive(Debug, Clone, Serialize)]
+pub struct TestDataSummary {
+    pub logs: Vec<TestLogResult>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub signature: Option<crate::signal::SignatureReport>,
+}
+
+/// Runs every `[[test_log]]` through the signal module and gates the results.
+fn test_data(
+    scene: &Scene,
+    limits: &crate::spec::GatesSpec,
+    gates: &mut Vec<Verdict>,
+) -> Result<TestDataSummary, Error> {
+    use crate::signal::{self as sg, Detrend, IngestOptions, PeakOptions, WelchOptions, Window};
+    use crate::spec::LogKind;
+    let dir = scene
+        .path
+        .parent()
+        .map(|p| p.to_path_buf())
+        .unwrap_or_default();
+    let loc = scene.locator();
+    let mut logs = Vec::new();
+    let mut before: Option<Vec<sg::Resonance>> = None;
+    let mut after: Option<Vec<sg::Resonance>> = None;
+    for (i, t) in scene.file.test_log.iter().enumerate() {
+        let key = |k: &str| format!("test_log[{i}].{k}");
+        let path = dir.join(&t.file);
+        let mut w = WelchOptions::default();
+        if let Some(n) = t.nperseg {
+            w.nperseg = n;
+        }
+        if let Some(o) = t.overlap {
+            w.overlap = o;
+        }
+        if let Some(win) = &t.window {
+            w.window = Window::parse(win).map_err(|e| loc.err(&key("window"), e.to_string()))?;
+        }
+        if let Some(d) = &t.detrend {
+            w.detrend = Detrend::parse(d).map_err(|e| loc.err(&key("detrend"), e.to_string()))?;
+        }
+        w.validate()
+            .map_err(|e| loc.err(&key("nperseg"), e.to_string()))?;
+        let mut channels: Vec<String> = vec![t.control.clone()];
+        channels.extend(t.responses.iter().cloned());
+        let ingest = IngestOptions {
+            fs: t.fs_hz,
+            ..Default::default()
+        };
+        let mut res = TestLogResult {
+            name: t.name.clone(),
+            file: t.file.clone(),
+            kind: t.kind,
+            tolerance: None,
+            channels: Vec::new(),
+            resonances: Vec::new(),
+            curves: Vec::new(),
+            log_scale_y: true,
+        };
+        match t.kind {
+            LogKind::Random => {
+                // A UFF PSD record has no channel names to select by: take every channel then.
+                let uff = sg::uff::looks_like_uff(&path);
+                let ing = if uff {
+                    ingest.clone()
+                } else {
+                    IngestOptions {
+                        channels: Some(channels.clone()),
+                        ..ingest.clone()
+                    }
+                };
+                let psd = sg::psd_of_file(&path, &ing, &w)?;
+                for c in &psd.channels {
+                    res.channels.push((c.name.clone(), c.grms));
+                }
+                let control = if uff {
+                    psd.channels.first()
+                } else {
+                    psd.channels.iter().find(|c| c.name == t.control)
+                };
+                let control = control.ok_or_else(|| {
+                    loc.err(
+                        &key("control"),
+                        format!("channel `{}` is not in {}", t.control, t.file),
+                    )
+                })?;
+                let f = control.psd.frequencies();
+                let profile: Option<Vec<(f64, f64)>> = match (&t.profile, &t.profile_table) {
+                    (_, Some(tab)) => Some(tab.iter().map(|p| (p[0], p[1])).collect()),
+                    (Some(p), None) if p == "random" => {
+                        scene.file.random.as_ref().map(|r| r.table())
+                    }
+                    (Some(p), None) => {
+                        return Err(loc.err(&key("profile"), format!("`{p}`: use \"random\" (the scene's [random] profile) or give profile_table")).into());
+                    }
+                    (None, None) => None,
+                };
+                for c in &psd.channels {
+                    let pts: Vec<(f64, f64)> = c
+                        .psd
+                        .frequencies()
+                        .into_iter()
+                        .zip(c.psd.values.iter().copied())
+                        .filter(|p| p.0 > 0.0)
+                        .collect();
+                    res.curves
+                        .push((format!("{} (Grms {:.3})", c.name, c.grms), pts));
+                }
+                if let Some(profile) = profile {
+                    let spec = sg::ToleranceSpec {
+                        alarm_db: limits.alarm_db,
+                        abort_db: limits.abort_db,
+                        grms_pct: limits.grms_tolerance_pct,
+                    };
+                    let rep = sg::tolerance_bands(&f, &control.psd.values, &profile, &spec)?;
+                    gates.push(Verdict {
+                        name: format!(
+                            "{}: control lines beyond ±{} dB abort [%]",
+                            t.name, limits.abort_db
+                        ),
+                        value: rep.fraction_outside_abort * 100.0,
+                        limit: 0.0,
+                        margin: -rep.fraction_outside_abort,
+                        pass: rep.fraction_outside_abort == 0.0,
+                        source: "GSFC-STD-7000 random test tolerance, [gates] abort_db".into(),
+                    });
+                    gates.push(gates::at_most(
+                        format!("{}: control Grms departure from the profile [%]", t.name),
+                        rep.grms_error_pct.abs(),
+                        limits.grms_tolerance_pct,
+                        "GSFC-STD-7000 Grms tolerance, [gates] grms_tolerance_pct",
+                    ));
+                    let (lo, hi) = (profile[0].0, profile[profile.len() - 1].0);
+                    let band = |db: f64| -> Vec<(f64, f64)> {
+                        crate::response::grid::log_n(lo, hi, 200)
+                            .into_iter()
+                            .map(|x| {
+                                (
+                                    x,
+                                    crate::units::loglog_interp(&profile, x)
+                                        * 10f64.powf(db / 10.0),
+                                )
+                            })
+                            .collect()
+                    };
+                    res.curves.push(("profile".into(), band(0.0)));
+                    res.curves.push((
+                        format!("+{} dB alarm", limits.alarm_db),
+                        band(limits.alarm_db),
+                    ));
+                    res.curves.push((
+                        format!("−{} dB alarm", limits.alarm_db),
+                        band(-limits.alarm_db),
+                    ));
+                    res.curves.push((
+                        format!("+{} dB abort", limits.abort_db),
+                        band(limits.abort_db),
+                    ));
+                    res.curves.push((
+                        format!("−{} dB abort", limits.abort_db),
+                        band(-limits.abort_db),
+                    ));
+                    res.tolerance = Some(rep);
+                }
+            }
+            LogKind::SineSweep | LogKind::SignatureBefore | LogKind::SignatureAfter => {
+                let output = t.responses.first().ok_or_else(|| {
+                    loc.err(
+                        &key("responses"),
+                        "an FRF needs at least one response channel",
+                    )
+                })?;
+                let h =
+                    sg::frf_of_files(std::slice::from_ref(&path), &t.control, output, &ingest, &w)?;
+                let f = h.frequencies();
+                let h1 = h.h1();
+                let coh = h.coherence();
+                // The before-signature names the modes to watch (its 6 most prominent); the
+                // after-signature is searched twice as wide, so that a mode whose prominence
+                // merely changed rank is still matched rather than reported as lost.
+                let max_peaks = if t.kind == LogKind::SignatureAfter {
+                    12
+                } else {
+                    6
+                };
+                res.resonances = sg::resonances(
+                    &f,
+                    &h1,
+                    &coh,
+                    &PeakOptions {
+                        max_peaks,
+                        f_min_hz: f.get(1).copied().unwrap_or(0.0),
+                        db_per_decade: 20.0,
+                        ..Default::default()
+                    },
+                );
+                res.curves.push((
+                    format!("|H1| {output}/{}", t.control),
+                    f.iter()
+                        .zip(&h1)
+                        .skip(1)
+                        .map(|(x, v)| (*x, v.norm()))
+                        .collect(),
+                ));
+                res.curves.push((
+                    "coherence".into(),
+                    f.iter().zip(&coh).skip(1).map(|(x, v)| (*x, *v)).collect(),
+                ));
+                match t.kind {
+                    LogKind::SignatureBefore => before = Some(res.resonances.clone()),
+                    LogKind::SignatureAfter => after = Some(res.resonances.clone()),
+                    _ => {}
+                }
+            }
+        }
+        logs.push(res);
+    }
+    let signature = match (before, after) {
+        (Some(b), Some(a)) => {
+            let crit = sg::SignatureCriteria {
+                max_shift_pct: limits.max_frequency_shift_pct,
+                max_amp_change_pct: limits.max_amplitude_change_pct,
+                ..Default::default()
+            };
+            let rep = sg::compare_signatures(&b, &a, &crit);
+            for m in &rep.modes {
+                let name = format!("signature mode {} ({:.2} Hz)", m.mode, m.before_hz);
+                match (m.shift_pct, m.amplitude_change_pct) {
+                    (Some(s), Some(amp)) => {
+                        gates.push(gates::at_most(
+                            format!("{name}: frequency shift [%]"),
+                            s.abs(),
+                            limits.max_frequency_shift_pct,
+                            "GSFC-STD-7000 practice, [gates] max_frequency_shift_pct",
+                        ));
+                        gates.push(gates::at_most(
+                            format!("{name}: amplitude change [%]"),
+                            amp.abs(),
+                            limits.max_amplitude_change_pct,
+                            "GSFC-STD-7000 practice, [gates] max_amplitude_change_pct",
+                        ));
+                    }
+                    _ => gates.push(Verdict {
+                        name: format!("{name}: found after the test"),
+                        value: f64::NAN,
+                        limit: 0.0,
+                        margin: -1.0,
+                        pass: false,
+                        source: m.reason.clone(),
+                    }),
+                }
+            }
+            Some(rep)
+        }
+        (Some(_), None) | (None, Some(_)) => {
+            return Err(loc
+                .err(
+                    "test_log",
+                    "a signature needs one signature-before and one signature-after log",
+                )
+                .into());
+        }
+        _ => None,
+    };
+    Ok(TestDataSummary { logs, signature })
 }

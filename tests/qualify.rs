@@ -288,3 +288,84 @@ fn reduced_preload_gaps_and_the_gate_says_so() {
     assert!(out.join("report.html").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn test_data_scene_gates_tolerance_and_signature() {
+    // Third-party logs (data/realdata): the controller PSD within its fitted profile's abort
+    // band, Grms within 10% (1.07% measured by the signal tests), and the same structure hit
+    // twice, so every signature mode passes.
+    let d = tmp("testdata");
+    let out = d.join("report");
+    let o = qualify(Path::new("test-specs/test-data.toml"), &out, None);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(v["ran"], serde_json::json!(["test data"]));
+    let sig = v["test_data"]["signature"]["modes"].as_array().unwrap();
+    assert!(sig.len() >= 3);
+    // The 5969 Hz mode of the SOURCE.md (1 Hz lines, so within 5 Hz) is matched with a
+    // negligible shift: the same structure.
+    assert!(
+        sig.iter()
+            .any(|m| (m["before_hz"].as_f64().unwrap() - 5969.0).abs() < 5.0
+                && m["shift_pct"].as_f64().unwrap().abs() < 0.1)
+    );
+    let names: Vec<&str> = v["gates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|g| g["name"].as_str().unwrap())
+        .collect();
+    assert!(names.iter().any(|n| n.contains("abort")) && names.iter().any(|n| n.contains("Grms")));
+    assert!(out.join("plots/test_1_psd.svg").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn corrupted_log_exits_2_naming_file_and_row_and_writes_nothing() {
+    let d = tmp("corrupt");
+    std::fs::create_dir_all(d.join("logs")).unwrap();
+    let good = std::fs::read_to_string("data/realdata/pyfrf-impact/impact_1.csv").unwrap();
+    let mut lines: Vec<String> = good.lines().map(String::from).collect();
+    lines[1000] = "0.0390,NaN,0.1".into(); // line 1001 of the file
+    std::fs::write(d.join("logs/before.csv"), lines.join("\n") + "\n").unwrap();
+    std::fs::copy(
+        "data/realdata/pyfrf-impact/impact_2.csv",
+        d.join("logs/after.csv"),
+    )
+    .unwrap();
+    let scene = std::fs::read_to_string("test-specs/test-data.toml")
+        .unwrap()
+        .replace(
+            "../data/realdata/pyfrf-impact/impact_1.csv",
+            "logs/before.csv",
+        )
+        .replace(
+            "../data/realdata/pyfrf-impact/impact_2.csv",
+            "logs/after.csv",
+        )
+        .replace(
+            "../data/realdata/",
+            &format!("{}/data/realdata/", env!("CARGO_MANIFEST_DIR")),
+        );
+    std::fs::write(d.join("scene.toml"), scene).unwrap();
+    let out = d.join("report");
+    let o = qualify(&d.join("scene.toml"), &out, None);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("before.csv") && err.contains("1001"), "{err}");
+    assert!(!out.exists(), "no partial report");
+    assert!(
+        std::fs::read_dir(&d).unwrap().all(|e| !e
+            .unwrap()
+            .file_name()
+            .to_string_lossy()
+            .starts_with('.'))
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

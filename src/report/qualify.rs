@@ -192,6 +192,80 @@ fn figures(q: &Qualification, files: &mut Files) -> Result<Vec<Figure>, Error> {
             }
         }
     }
+    if let Some(td) = &q.test_data {
+        for (k, log) in td.logs.iter().enumerate() {
+            let stem = format!("test_{}", k + 1);
+            for (label, pts) in &log.curves {
+                let safe: String = label
+                    .chars()
+                    .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                    .collect();
+                files.push((
+                    format!("curves/{stem}_{safe}.csv"),
+                    csv("frequency_hz,value", pts.iter().map(|p| vec![p.0, p.1])),
+                ));
+            }
+            let is_frf = log.curves.iter().any(|(l, _)| l == "coherence");
+            if is_frf {
+                let h: Vec<Series> = log
+                    .curves
+                    .iter()
+                    .filter(|(l, _)| l != "coherence")
+                    .map(|(l, p)| Series {
+                        label: l.clone(),
+                        points: p,
+                    })
+                    .collect();
+                figs.push(Figure {
+                    stem: format!("{stem}_frf"),
+                    caption: format!("{}: |H1| with its resonances ({})", log.name, log.file),
+                    svg: lines_svg(
+                        &format!("{}: FRF", log.name),
+                        "frequency [Hz]",
+                        "|H1|",
+                        &h,
+                        Scale::Log,
+                        Scale::Log,
+                    )?,
+                });
+                let c: Vec<Series> = log
+                    .curves
+                    .iter()
+                    .filter(|(l, _)| l == "coherence")
+                    .map(|(l, p)| Series {
+                        label: l.clone(),
+                        points: p,
+                    })
+                    .collect();
+                figs.push(Figure {
+                    stem: format!("{stem}_coherence"),
+                    caption: format!("{}: coherence", log.name),
+                    svg: lines_svg(
+                        &format!("{}: coherence", log.name),
+                        "frequency [Hz]",
+                        "γ²",
+                        &c,
+                        Scale::Log,
+                        Scale::Linear,
+                    )?,
+                });
+            } else {
+                let ser: Vec<Series> = log
+                    .curves
+                    .iter()
+                    .map(|(l, p)| Series {
+                        label: l.clone(),
+                        points: p,
+                    })
+                    .collect();
+                figs.push(Figure {
+                    stem: format!("{stem}_psd"),
+                    caption: format!("{}: measured PSD against the reference profile and its tolerance bands ({})", log.name, log.file),
+                    svg: lines_svg(&format!("{}: PSD", log.name), "frequency [Hz]", "PSD [g²/Hz]", &ser, Scale::Log, Scale::Log)?,
+                });
+            }
+        }
+    }
     if let Some(sep) = &q.separation
         && let Some(h) = &sep.result.history
     {
@@ -451,6 +525,72 @@ fn markdown(q: &Qualification, figs: &[Figure]) -> String {
                     s,
                     "| {name} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} |",
                     p.p0_27, p.p1, p.p50, p.p99, p.p99_73
+                );
+            }
+        }
+    }
+    if let Some(td) = &q.test_data {
+        let _ = writeln!(s, "\n## Test data\n");
+        for log in &td.logs {
+            let _ = writeln!(
+                s,
+                "- **{}** (`{}`, {:?}): {}",
+                log.name,
+                log.file,
+                log.kind,
+                log.channels
+                    .iter()
+                    .map(|(n, g)| format!("{n} {g:.4} Grms"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            if let Some(t) = &log.tolerance {
+                let _ = writeln!(
+                    s,
+                    "  - tolerance: {:.2}% of lines beyond ±{} dB (alarm), {:.2}% beyond ±{} dB (abort); worst {:+.2} dB at {:.0} Hz; Grms {:.4} against {:.4} ({:+.2}%)",
+                    t.fraction_outside_alarm * 100.0,
+                    t.spec.alarm_db,
+                    t.fraction_outside_abort * 100.0,
+                    t.spec.abort_db,
+                    t.worst_excursion_db,
+                    t.worst_frequency_hz,
+                    t.measured_grms,
+                    t.reference_grms,
+                    t.grms_error_pct
+                );
+            }
+            if !log.resonances.is_empty() {
+                let r: Vec<String> = log
+                    .resonances
+                    .iter()
+                    .map(|r| format!("{:.1} Hz", r.frequency_hz))
+                    .collect();
+                let _ = writeln!(s, "  - resonances: {}", r.join(", "));
+            }
+        }
+        if let Some(sig) = &td.signature {
+            let _ = writeln!(
+                s,
+                "\n| mode | before [Hz] | after [Hz] | shift [%] | amplitude change [%] | verdict |\n|---:|---:|---:|---:|---:|---|"
+            );
+            for m in &sig.modes {
+                let _ = writeln!(
+                    s,
+                    "| {} | {:.2} | {} | {} | {} | {} |",
+                    m.mode,
+                    m.before_hz,
+                    m.after_hz.map(|v| format!("{v:.2}")).unwrap_or("—".into()),
+                    m.shift_pct
+                        .map(|v| format!("{v:+.3}"))
+                        .unwrap_or("—".into()),
+                    m.amplitude_change_pct
+                        .map(|v| format!("{v:+.2}"))
+                        .unwrap_or("—".into()),
+                    if m.pass {
+                        "pass".to_string()
+                    } else {
+                        format!("FAIL: {}", m.reason)
+                    }
                 );
             }
         }

@@ -87,6 +87,18 @@ pub struct TestLogSpec {
     /// Sampling rate, when the log has no time column.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fs_hz: Option<f64>,
+    /// Welch segment length (default 8192; an impact test uses one segment per record).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nperseg: Option<usize>,
+    /// Welch overlap fraction (default 0.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub overlap: Option<f64>,
+    /// hann (default), hamming, flattop, boxcar.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<String>,
+    /// none, constant (default), linear.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub detrend: Option<String>,
 }
 
 pub fn validate(gates: &GatesSpec, logs: &[TestLogSpec], loc: &Locator) -> Result<(), SpecError> {
