@@ -39,6 +39,16 @@ pub struct SpringElement {
     pub spec_index: usize,
 }
 
+/// A locked preloaded joint (see `spec::Preload`).
+#[derive(Debug, Clone)]
+pub struct PreloadElement {
+    pub nodes: [usize; 2],
+    pub k: [f64; 6],
+    pub axis: usize,
+    pub force: f64,
+    pub name: String,
+}
+
 #[derive(Debug, Clone)]
 pub struct FeModel {
     pub nodes: Vec<FeNode>,
@@ -46,6 +56,9 @@ pub struct FeModel {
     /// Node index and its 6×6 mass matrix (offset masses already transformed to the node).
     pub masses: Vec<(usize, [[f64; 6]; 6])>,
     pub springs: Vec<SpringElement>,
+    pub preloads: Vec<PreloadElement>,
+    /// Names of the scene's springs (or `spring[i]`).
+    pub spring_names: Vec<String>,
     pub rigid: Vec<(usize, Vec<usize>)>,
     pub fixed: Vec<[bool; 6]>,
     /// Static load vector per node (forces then moments).
@@ -154,11 +167,26 @@ impl FeModel {
             ));
         }
         let mut springs = Vec::new();
+        let mut spring_names = Vec::new();
         for (i, s) in f.spring.iter().enumerate() {
             springs.push(SpringElement {
                 nodes: [get(s.nodes[0])?, get(s.nodes[1])?],
                 k: s.stiffness,
                 spec_index: i,
+            });
+            spring_names.push(s.name.clone().unwrap_or_else(|| format!("spring[{i}]")));
+        }
+        let mut preloads = Vec::new();
+        for (i, p) in f.preload.iter().enumerate() {
+            let axis = p.axis_index().ok_or_else(|| {
+                FemError::Invalid(format!("preload[{i}]: bad axis `{}`", p.axis))
+            })?;
+            preloads.push(PreloadElement {
+                nodes: [get(p.nodes[0])?, get(p.nodes[1])?],
+                k: p.stiffness,
+                axis,
+                force: p.force_n,
+                name: p.name.clone().unwrap_or_else(|| format!("preload[{i}]")),
             });
         }
         let mut rigid = Vec::new();
@@ -178,6 +206,10 @@ impl FeModel {
             }
         }
         let mut loads = vec![[0.0; 6]; nodes.len()];
+        for p in &preloads {
+            loads[p.nodes[0]][p.axis] += p.force;
+            loads[p.nodes[1]][p.axis] -= p.force;
+        }
         for l in &f.static_load {
             let n = get(l.node)?;
             for d in 0..3 {
@@ -190,6 +222,8 @@ impl FeModel {
             beams,
             masses,
             springs,
+            preloads,
+            spring_names,
             rigid,
             fixed,
             loads,
@@ -210,8 +244,17 @@ impl FeModel {
         )
     }
 
-    /// Global stiffness triplets in the full DOF space.
+    /// Global stiffness triplets in the full DOF space, preloaded joints locked.
     pub fn stiffness(&self) -> Triplets {
+        self.stiffness_with(false)
+    }
+
+    /// Stiffness for the prestress solve: each preloaded joint cut along its axis.
+    pub fn stiffness_prestress(&self) -> Triplets {
+        self.stiffness_with(true)
+    }
+
+    fn stiffness_with(&self, cut: bool) -> Triplets {
         let mut t = Vec::with_capacity(self.beams.len() * 144 + self.springs.len() * 24);
         for b in &self.beams {
             let kg = beam::to_global(&beam::local_k(&b.props, b.length), &b.rot);
@@ -226,7 +269,26 @@ impl FeModel {
                 }
             }
         }
+        for p in &self.preloads {
+            for d in 0..6 {
+                let k = if cut && d == p.axis { 0.0 } else { p.k[d] };
+                if k != 0.0 {
+                    let (i, j) = (6 * p.nodes[0] + d, 6 * p.nodes[1] + d);
+                    t.extend([(i, i, k), (j, j, k), (i, j, -k), (j, i, -k)]);
+                }
+            }
+        }
         t
+    }
+
+    /// Internal forces of the springs for a full displacement vector: k·(u₂ − u₁) per global
+    /// component (positive = the second node moves away along +axis: tension for a joint whose
+    /// second node lies above the first).
+    pub fn spring_forces(&self, u: &[f64]) -> Vec<[f64; 6]> {
+        self.springs
+            .iter()
+            .map(|s| std::array::from_fn(|d| s.k[d] * (u[6 * s.nodes[1] + d] - u[6 * s.nodes[0] + d])))
+            .collect()
     }
 
     /// Global consistent mass triplets in the full DOF space.

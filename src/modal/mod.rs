@@ -80,11 +80,21 @@ pub struct MemberForce {
 }
 
 #[derive(Debug, Clone, Serialize)]
+pub struct SpringForce {
+    pub name: String,
+    /// N in x, y, z; N·m about x, y, z. Negative axial = compression of a joint whose second
+    /// node is above its first.
+    pub force_n: [f64; 6],
+}
+
+#[derive(Debug, Clone, Serialize)]
 pub struct PrestressSummary {
     /// Smallest λ with (K + λ·K_G)·φ = 0: the static loads may be multiplied by λ before the
     /// structure buckles. `None` when the prestress does not destabilise it.
     pub buckling_factor: Option<f64>,
     pub members: Vec<MemberForce>,
+    /// Internal forces of the springs (joints), k·(u₂ − u₁) per global component.
+    pub springs: Vec<SpringForce>,
     /// Axial force of every element, tension positive, N.
     #[serde(skip)]
     pub element_axial_n: Vec<f64>,
@@ -190,14 +200,17 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
     let mut k = k0.clone();
     let mut prestress = None;
     if prestressed {
+        // The static solve cuts the preloaded joints, so the preload loops carry exactly the
+        // preload; buckling and modes use the locked stiffness.
+        let ks = red.reduce(&model.stiffness_prestress());
         let f = red.reduce_vec(&loads);
         let (u_red, kd) = if use_sparse {
-            let kc = sparse::SymCsc::from_triplets(red.n_red, &k0);
+            let kc = sparse::SymCsc::from_triplets(red.n_red, &ks);
             let u = sparse::solve_spd(&kc, &f).map_err(|e| sparse_err(e, false))?;
             (u, None)
         } else {
-            let kd = to_dense(red.n_red, &k0);
-            let u = dense::solve_spd(&kd, &f).map_err(|e| match e {
+            let ksd = to_dense(red.n_red, &ks);
+            let u = dense::solve_spd(&ksd, &f).map_err(|e| match e {
                 dense::DenseError::NotPositiveDefinite { index } => {
                     crate::Error::from(dof_err(model, &red, index, false))
                 }
@@ -205,7 +218,7 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
                     ModalError::NoConvergence("static solve".into()).into()
                 }
             })?;
-            (u, Some(kd))
+            (u, Some(to_dense(red.n_red, &k0)))
         };
         let u = red.expand(&u_red);
         let axial = element_axial_forces(model, &u);
@@ -232,9 +245,16 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
             }
         }
         k.extend(kg);
+        let springs = model
+            .spring_forces(&u)
+            .into_iter()
+            .zip(&model.spring_names)
+            .map(|(f, name)| SpringForce { name: name.clone(), force_n: f })
+            .collect();
         prestress = Some(PrestressSummary {
             buckling_factor: lambda,
             members,
+            springs,
             element_axial_n: axial,
             displacement: u,
         });

@@ -39,6 +39,8 @@ pub struct SceneFile {
     #[serde(default)]
     pub spring: Vec<Spring>,
     #[serde(default)]
+    pub preload: Vec<Preload>,
+    #[serde(default)]
     pub support: Vec<Support>,
     #[serde(default)]
     pub static_load: Vec<StaticLoad>,

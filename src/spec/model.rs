@@ -127,6 +127,35 @@ pub struct Spring {
     pub stiffness: [f64; 6],
 }
 
+/// A preloaded joint between two nodes (a pretension section): in the prestress solve the
+/// joint is cut along `axis` and the preload is applied across the cut, `force_n` pulling the
+/// first node along +axis and pushing the second along −axis; afterwards (modes, responses)
+/// the joint is locked with `stiffness`. The structure itself equilibrates the preload, so
+/// the members in the loop carry exactly `force_n`, whatever their stiffness.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Preload {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    pub nodes: [i64; 2],
+    pub force_n: f64,
+    /// Global axis of the preload: "x", "y" or "z".
+    pub axis: String,
+    /// Locked joint stiffness, N/m and N·m/rad in global x, y, z, rx, ry, rz.
+    pub stiffness: [f64; 6],
+}
+
+impl Preload {
+    pub fn axis_index(&self) -> Option<usize> {
+        match self.axis.as_str() {
+            "x" => Some(0),
+            "y" => Some(1),
+            "z" => Some(2),
+            _ => None,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Support {
@@ -319,6 +348,20 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         }
         for (j, v) in s.stiffness.iter().enumerate() {
             nonneg(loc, &format!("spring[{i}].stiffness[{j}]"), *v)?;
+        }
+    }
+    for (i, p) in f.preload.iter().enumerate() {
+        node_ref(format!("preload[{i}].nodes"), p.nodes[0])?;
+        node_ref(format!("preload[{i}].nodes"), p.nodes[1])?;
+        if p.nodes[0] == p.nodes[1] {
+            return Err(loc.err(&format!("preload[{i}].nodes"), "a preloaded joint needs two different nodes"));
+        }
+        positive(loc, &format!("preload[{i}].force_n"), p.force_n)?;
+        if p.axis_index().is_none() {
+            return Err(loc.err(&format!("preload[{i}].axis"), format!("`{}` is not an axis: use x, y or z", p.axis)));
+        }
+        for (j, v) in p.stiffness.iter().enumerate() {
+            nonneg(loc, &format!("preload[{i}].stiffness[{j}]"), *v)?;
         }
     }
     for (i, s) in f.support.iter().enumerate() {
