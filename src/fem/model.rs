@@ -178,9 +178,9 @@ impl FeModel {
         }
         let mut preloads = Vec::new();
         for (i, p) in f.preload.iter().enumerate() {
-            let axis = p.axis_index().ok_or_else(|| {
-                FemError::Invalid(format!("preload[{i}]: bad axis `{}`", p.axis))
-            })?;
+            let axis = p
+                .axis_index()
+                .ok_or_else(|| FemError::Invalid(format!("preload[{i}]: bad axis `{}`", p.axis)))?;
             preloads.push(PreloadElement {
                 nodes: [get(p.nodes[0])?, get(p.nodes[1])?],
                 k: p.stiffness,
@@ -287,7 +287,9 @@ impl FeModel {
     pub fn spring_forces(&self, u: &[f64]) -> Vec<[f64; 6]> {
         self.springs
             .iter()
-            .map(|s| std::array::from_fn(|d| s.k[d] * (u[6 * s.nodes[1] + d] - u[6 * s.nodes[0] + d])))
+            .map(|s| {
+                std::array::from_fn(|d| s.k[d] * (u[6 * s.nodes[1] + d] - u[6 * s.nodes[0] + d]))
+            })
             .collect()
     }
 

@@ -249,7 +249,10 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
             .spring_forces(&u)
             .into_iter()
             .zip(&model.spring_names)
-            .map(|(f, name)| SpringForce { name: name.clone(), force_n: f })
+            .map(|(f, name)| SpringForce {
+                name: name.clone(),
+                force_n: f,
+            })
             .collect();
         prestress = Some(PrestressSummary {
             buckling_factor: lambda,

@@ -354,11 +354,17 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         node_ref(format!("preload[{i}].nodes"), p.nodes[0])?;
         node_ref(format!("preload[{i}].nodes"), p.nodes[1])?;
         if p.nodes[0] == p.nodes[1] {
-            return Err(loc.err(&format!("preload[{i}].nodes"), "a preloaded joint needs two different nodes"));
+            return Err(loc.err(
+                &format!("preload[{i}].nodes"),
+                "a preloaded joint needs two different nodes",
+            ));
         }
         positive(loc, &format!("preload[{i}].force_n"), p.force_n)?;
         if p.axis_index().is_none() {
-            return Err(loc.err(&format!("preload[{i}].axis"), format!("`{}` is not an axis: use x, y or z", p.axis)));
+            return Err(loc.err(
+                &format!("preload[{i}].axis"),
+                format!("`{}` is not an axis: use x, y or z", p.axis),
+            ));
         }
         for (j, v) in p.stiffness.iter().enumerate() {
             nonneg(loc, &format!("preload[{i}].stiffness[{j}]"), *v)?;
