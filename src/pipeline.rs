@@ -49,6 +49,11 @@ pub fn modal_with_solver(
     Ok((model, sys))
 }
 
+/// The FE model of a scene, with FE errors located in the scene.
+pub fn fe_model(scene: &Scene) -> Result<FeModel, Error> {
+    FeModel::from_scene(&scene.file).map_err(|e| locate(scene, e))
+}
+
 /// Attaches the scene location of the node an FE error names, when it is a scene node.
 pub fn locate(scene: &Scene, e: FemError) -> Error {
     let node = match &e {

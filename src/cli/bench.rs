@@ -17,6 +17,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<Outcome, Error> {
     match args.what.as_str() {
         "fem" => super::bench_fem::run(&args.out).map(|_| Outcome::Pass),
+        "modal" => super::bench_modal::run(&args.out).map(|_| Outcome::Pass),
         other => Err(Error::Other(format!("unknown benchmark `{other}`"))),
     }
 }

@@ -121,7 +121,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     Ok(Outcome::Pass)
 }
 
-fn export(
+pub(super) fn export(
     dir: &Path,
     model: &satqual::fem::FeModel,
     red: &Reduction,

@@ -37,11 +37,14 @@
 //! 4. With `fmax_hz`, the last edge is (2π·fmax)² itself, whose count was taken first.
 //!
 //! # Tolerance
-//! A Ritz pair (θ, y) of OP is accepted when ‖OP·y − θ·y‖_M ≤ [`RESIDUAL_TOL`]·|θ| (the
-//! criterion of ARPACK and of `scipy.sparse.linalg.eigsh(tol=…)`). Since OP is M-self-adjoint,
-//! the eigenvalue error is then |δλ| ≤ tol·|λ − σ| to first order (and ~tol²·|λ−σ|·|θ|/gap for
-//! a separated eigenvalue): with σ at the slice's lower edge, below λ, that is a relative error
-//! of at most tol in λ for every elastic mode. After convergence the true residual
+//! For a Ritz pair (θ, y) of OP with residual r = ‖OP·y − θ·y‖_M (read off the block
+//! tridiagonal matrix), OP being M-self-adjoint gives |δθ| ≤ r, hence an eigenvalue error
+//! |δλ| ≤ r/θ² to first order (and ~r²/gap for a separated eigenvalue). A pair is accepted when
+//! that bound is at most [`RESIDUAL_TOL`] relative: r/θ² ≤ tol·max(|λ|, |σ|) (the |σ| keeps
+//! rigid-body modes, λ ≈ 0, from asking for the impossible). This is ARPACK's
+//! ‖r‖ ≤ tol·|θ| (the `tol` of `scipy.sparse.linalg.eigsh`) scaled by |λ − σ|/|λ|: it asks
+//! less of eigenvalues far from the shift, whose residual floor is round-off relative to the
+//! largest θ, and the same relative accuracy of every λ. After convergence the true residual
 //! ‖K·φ − λ·M·φ‖₂ is measured for every pair and reported as a normwise backward error
 //! ‖r‖₂ / ((‖K‖₁ + |λ|·‖M‖₁)·‖φ‖₂) in [`SparseStats`].
 //!
@@ -76,8 +79,9 @@ pub const BLOCK: usize = 8;
 pub const SLICE_MODES: usize = 48;
 /// Largest Lanczos basis of one run.
 pub const MAX_BASIS: usize = 200;
-/// Accepted residual of a Ritz pair of the shift-inverted operator, relative to |θ|.
-pub const RESIDUAL_TOL: f64 = 1e-11;
+/// Accepted first-order bound on the relative eigenvalue error of a Ritz pair (module doc);
+/// frequencies then carry at most half of it.
+pub const RESIDUAL_TOL: f64 = 1e-10;
 /// A pivot d_i of an SPD factorization with d_i ≤ this × A_ii marks a singular direction:
 /// d_i/A_ii is the reciprocal of a condition number, and rounding alone leaves it near 1e-16
 /// on an exact mechanism.
@@ -161,6 +165,14 @@ impl SymCsc {
             }
         }
         y
+    }
+
+    /// c·A.
+    pub fn scaled(&self, c: f64) -> SymCsc {
+        SymCsc {
+            val: self.val.iter().map(|v| c * v).collect(),
+            ..self.clone()
+        }
     }
 
     /// Largest absolute column sum.
@@ -445,33 +457,33 @@ fn solve_refined(k: &SymCsc, fac: &Factor<'_>, f: &[f64]) -> Vec<f64> {
     (0..n).map(|i| x[(i, 0)] + r[(i, 0)]).collect()
 }
 
-/// Smallest positive λ of (K + λ·K_G)·φ = 0 with K positive definite: the largest eigenvalue
-/// μ = 1/λ of −K_G·φ = μ·K·φ, by block Lanczos on K⁻¹·(−K_G) in the K-inner product (an
-/// extreme eigenvalue, so no shift is needed). `None` when no μ is positive beyond round-off
-/// relative to the spectrum, as in the dense path.
+/// Smallest positive λ of (K + λ·K_G)·φ = 0 with K positive definite; `None` when the
+/// prestress destabilises no direction (as in the dense path: no eigenvalue μ = 1/λ of
+/// −K_G·φ = μ·K·φ is positive beyond round-off relative to the spectrum).
+///
+/// Two phases. A short block Lanczos on K⁻¹·(−K_G) in the K-inner product brackets the
+/// answer: its top Ritz value θ ≤ max μ, so λ₁ ≤ 1/θ. The wanted μ is, however, an interior
+/// cluster next to the large negative μ of the tensioned members, where plain Lanczos crawls
+/// (measured: 200 vectors for 6 digits on a 6-satellite stack). So the second phase is the
+/// "buckling mode" spectral transformation: with a shift 0 < σ < λ₁, proven by a Sturm count of
+/// zero for K + σ·K_G, the operator (K + σ·K_G)⁻¹·K is K-self-adjoint with eigenvalues
+/// ν = λ/(λ − σ), and λ₁ becomes the largest ν, well separated.
 pub fn buckling_factor(k: &SymCsc, kg: &SymCsc) -> Result<Option<f64>, SparseError> {
-    let pencil = Pencil::new(k, None)?;
+    let n = k.n;
+    let neg_kg = kg.scaled(-1.0);
+    // The pencil (K, −K_G): factor(σ) is K + σ·K_G.
+    let pencil = Pencil::new(k, Some(&neg_kg))?;
     let fac = pencil.factor(0.0)?;
     if let Some(index) = fac.first_singular() {
         return Err(SparseError::NotPositiveDefinite { index });
     }
-    buckling_with(k, kg, &fac)
-}
-
-fn buckling_with(k: &SymCsc, kg: &SymCsc, fac: &Factor<'_>) -> Result<Option<f64>, SparseError> {
-    let n = k.n;
     let op = |v: MatRef<'_, f64>, _bv: MatRef<'_, f64>| {
-        let mut w = kg.mul(v);
-        for c in 0..w.ncols() {
-            for i in 0..w.nrows() {
-                w[(i, c)] = -w[(i, c)];
-            }
-        }
+        let mut w = neg_kg.mul(v);
         fac.solve(w.as_mut());
         w
     };
     let empty = Mat::<f64>::zeros(n, 0);
-    let max_basis = MAX_BASIS.min(n);
+    let max_basis = (MAX_BASIS.min(n) / BLOCK.min(n)).max(1) * BLOCK.min(n);
     let mut lz = Lanczos::new(
         n,
         BLOCK.min(n),
@@ -481,29 +493,80 @@ fn buckling_with(k: &SymCsc, kg: &SymCsc, fac: &Factor<'_>) -> Result<Option<f64
         7,
     );
     lz.start(k);
+    let mut bracket = None;
     loop {
         let more = lz.step(&op, k);
-        if lz.blocks() >= 2 || !more {
-            let (theta, res, _) = lz.ritz()?;
-            if theta.is_empty() {
-                return Ok(None);
+        let (theta, res, _) = lz.ritz()?;
+        if theta.is_empty() {
+            return Ok(None);
+        }
+        let span = theta.iter().fold(0.0f64, |a, &t| a.max(t.abs()));
+        let top = theta.len() - 1;
+        let max = theta[top];
+        // The top Ritz value is a lower bound of max μ, so "no positive μ" can only be
+        // concluded once it has converged.
+        if res[top] <= RESIDUAL_TOL * span {
+            return Ok(if max > 1e-12 * span {
+                Some(1.0 / max)
+            } else {
+                None
+            });
+        }
+        if max > 1e-12 * span && lz.blocks() >= 4 {
+            bracket = Some(1.0 / max);
+            break;
+        }
+        if !more {
+            break;
+        }
+    }
+    let Some(upper) = bracket else {
+        return Err(ModalError::NoConvergence(format!(
+            "buckling: the largest eigenvalue of K⁻¹·(−K_G) did not converge within a {max_basis}-vector Lanczos basis"
+        ))
+        .into());
+    };
+    // A shift below λ₁: count 0 for K + σ·K_G.
+    let mut sigma = 0.9 * upper;
+    let mut shifted = None;
+    for _ in 0..40 {
+        match pencil.factor(sigma) {
+            Ok(f) if f.negative == 0 && f.min_relative_pivot() > 1e-13 => {
+                shifted = Some(f);
+                break;
             }
-            let span = theta.iter().fold(0.0f64, |a, &t| a.max(t.abs()));
-            let top = theta.len() - 1;
-            let max = theta[top];
-            // Converged, or settled as "no positive μ": the top Ritz value is a lower bound of
-            // max μ, so it can only be dismissed once it has converged too.
-            if res[top] <= RESIDUAL_TOL * span {
-                return Ok(if max > 1e-12 * span {
-                    Some(1.0 / max)
-                } else {
-                    None
-                });
-            }
+            _ => sigma *= 0.7,
+        }
+    }
+    let shifted = shifted.ok_or_else(|| {
+        ModalError::NoConvergence(format!(
+            "buckling: no shift below the first buckling factor found under {upper:e}"
+        ))
+    })?;
+    let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
+        let mut w = bv.to_owned();
+        shifted.solve(w.as_mut());
+        w
+    };
+    let mut lz = Lanczos::new(
+        n,
+        BLOCK.min(n),
+        max_basis,
+        empty.as_ref(),
+        empty.as_ref(),
+        11,
+    );
+    lz.start(k);
+    loop {
+        let more = lz.step(&op, k);
+        let (nu, res, _) = lz.ritz()?;
+        let top = nu.len() - 1;
+        if res[top] <= RESIDUAL_TOL * nu[top].abs() && nu[top] > 1.0 {
+            return Ok(Some(sigma * nu[top] / (nu[top] - 1.0)));
         }
         if !more {
             return Err(ModalError::NoConvergence(format!(
-                "buckling: the largest eigenvalue of K⁻¹·(−K_G) did not converge within a {max_basis}-vector Lanczos basis"
+                "buckling: shift-invert Lanczos at σ = {sigma:e} did not converge within {max_basis} vectors"
             ))
             .into());
         }
@@ -611,53 +674,45 @@ pub fn eigen(
         }
         s *= 100.0;
     }
-    let mut fac_a = low.ok_or_else(|| {
+    let low = low.ok_or_else(|| {
         ModalError::NoConvergence(format!(
             "no shift below the spectrum found down to σ = {:e} rad²/s²",
             -s
         ))
     })?;
-    let mut c_a = 0usize;
-
+    let top_pair = top.as_ref().map(|t| (t.sigma, t.negative));
+    let (mut a, mut c_a) = (low.sigma, 0usize);
+    drop(low);
+    // The first shift sits at the bottom edge; later ones inside their slice.
+    let mut width = 0.0;
     let mut accepted: Vec<(f64, Vec<f64>)> = Vec::new();
     let mut prev = Mat::<f64>::zeros(n, 0);
     let mut seed = 1u64;
     loop {
         stats.slices += 1;
-        // Eigenvalues needed in this slice, if the top count bounds it.
-        let slice = run_slice(
+        let out = run_slice(
             m,
-            &fac_a,
-            c_a,
-            &prev,
-            top.as_ref().map(|t| (t.sigma, t.negative)),
-            target.saturating_sub(c_a),
             &pencil,
+            (a, c_a),
+            width,
+            &prev,
+            top_pair,
+            target.saturating_sub(c_a),
             &mut stats,
             &mut seed,
         )?;
-        let SliceResult { pairs, next } = slice;
-        c_a += pairs.len();
-        prev = Mat::<f64>::from_fn(n, pairs.len(), |i, j| pairs[j].1[i]);
-        accepted.extend(pairs);
-        match next {
-            None => {
-                // The slice ended at the top of the band: its count is the proof.
-                let t = top
-                    .as_ref()
-                    .expect("a slice ends at the top only with fmax");
-                stats.sturm_sigma = t.sigma;
-                stats.sturm_count = t.negative;
-                break;
-            }
-            Some(fac_b) => {
-                stats.sturm_sigma = fac_b.sigma;
-                stats.sturm_count = fac_b.negative;
-                fac_a = fac_b;
-                if c_a >= target {
-                    break;
-                }
-            }
+        let found = out.pairs.len();
+        prev = Mat::<f64>::from_fn(n, found, |i, j| out.pairs[j].1[i]);
+        accepted.extend(out.pairs);
+        // Aim the next shift at about half a slice of modes above the new edge.
+        let ratio = (SLICE_MODES as f64 / found.max(1) as f64).clamp(0.25, 4.0);
+        width = 0.5 * (out.b - a).max(0.0) * ratio;
+        a = out.b;
+        c_a = out.c_b;
+        stats.sturm_sigma = out.b;
+        stats.sturm_count = out.c_b;
+        if c_a >= target || top_pair.is_some_and(|(ts, _)| out.b >= ts) {
+            break;
         }
     }
     // Each slice matched its own count; the whole band is checked once more here.
@@ -719,40 +774,72 @@ fn factor_away_from_eigenvalue<'a>(
     )
 }
 
-struct SliceResult<'a> {
-    /// The slice's eigenpairs (λ ascending), all eigenvalues in [a, b).
+struct SliceOut {
+    /// The slice's eigenpairs: every eigenvalue in [a, b).
     pairs: Vec<(f64, Vec<f64>)>,
-    /// Factorization at the slice's upper edge b; `None` when b is the top of the band.
-    next: Option<Factor<'a>>,
+    /// Upper edge and its Sturm count.
+    b: f64,
+    c_b: usize,
 }
 
-/// One spectrum slice: Lanczos at σ = a, then a Sturm-checked upper edge b.
+/// One spectrum slice above the edge a (count c(a), everything below found): Lanczos at a
+/// shift s = a + width (counted too), so that eigenvalues on both sides of s converge; the
+/// slice is complete when every eigenvalue of [a, s) and an unbroken run above s have
+/// converged and the count at the new edge b matches.
 #[allow(clippy::too_many_arguments)]
-fn run_slice<'a>(
+fn run_slice(
     m: &SymCsc,
-    fac_a: &Factor<'a>,
-    c_a: usize,
+    pencil: &Pencil,
+    (a, c_a): (f64, usize),
+    width: f64,
     prev: &Mat<f64>,
     top: Option<(f64, usize)>,
     remaining: usize,
-    pencil: &'a Pencil,
     stats: &mut SparseStats,
     seed: &mut u64,
-) -> Result<SliceResult<'a>, SparseError> {
+) -> Result<SliceOut, SparseError> {
     let n = m.n;
-    let a = fac_a.sigma;
+    let hz = |l: f64| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
+    let mismatch = |expected: usize, found: usize, at: f64| -> SparseError {
+        ModalError::SturmMismatch {
+            expected,
+            found,
+            fmax_hz: hz(at),
+        }
+        .into()
+    };
+    // The shift, pulled back toward a while [a, s) holds more than a slice.
+    let mut s = a + width;
+    if let Some((ts, _)) = top {
+        s = s.min(ts);
+    }
+    let mut fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
+    for _ in 0..20 {
+        if fac_s.negative <= c_a + SLICE_MODES || fac_s.sigma <= a {
+            break;
+        }
+        s = a + 0.5 * (fac_s.sigma - a);
+        fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
+    }
+    let s = fac_s.sigma;
+    let c_s = fac_s.negative;
+    if c_s < c_a {
+        return Err(mismatch(c_a, c_s, s));
+    }
     let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
         let mut w = bv.to_owned();
-        fac_a.solve(w.as_mut());
+        fac_s.solve(w.as_mut());
         w
     };
-    let hz = |l: f64| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
     // Locked vectors: the previous slice's (the nearest below a) plus those converged here
     // before a restart.
     let mut locked = prev.clone();
     let mut in_slice: Vec<(f64, Vec<f64>)> = Vec::new();
-    // The upper edge b once chosen: its factorization and c(b) − c(a).
-    let mut edge: Option<(Factor<'a>, usize)> = None;
+    // The upper edge b once chosen: (b, c(b)).
+    let mut edge: Option<(f64, usize)> = None;
+    // A block of p random vectors brings at most p copies of a repeated eigenvalue into the
+    // Krylov space: after a restart the block grows to the number still missing.
+    let mut block = BLOCK;
     for restart in 0..12 {
         if restart > 0 {
             stats.restarts += 1;
@@ -761,7 +848,7 @@ fn run_slice<'a>(
         if room == 0 {
             break;
         }
-        let p = BLOCK.min(room);
+        let p = block.min(room);
         let max_basis = (MAX_BASIS.min(room) / p).max(1) * p;
         let ml = m.mul(locked.as_ref());
         *seed += 1;
@@ -778,101 +865,119 @@ fn run_slice<'a>(
                 continue;
             }
             since_check = 0;
-            let (theta, res, s) = lz.ritz()?;
-            // Ritz values above a (θ > 0), nearest first, i.e. λ ascending.
-            let mut above: Vec<(f64, bool, usize)> = theta
+            let (theta, res, vecs) = lz.ritz()?;
+            // Ritz values of OP as eigenvalues λ = s + 1/θ at or above a, ascending, with
+            // their convergence flag and column.
+            let mut ritz: Vec<(f64, bool, usize)> = theta
                 .iter()
                 .enumerate()
-                .filter(|(_, t)| **t > 0.0)
-                .map(|(i, &t)| (a + 1.0 / t, res[i] <= RESIDUAL_TOL * t, i))
+                .filter(|(_, t)| **t != 0.0)
+                .map(|(i, &t)| {
+                    let l = s + 1.0 / t;
+                    (l, res[i] / (t * t) <= RESIDUAL_TOL * l.abs().max(s.abs()), i)
+                })
+                .filter(|x| x.0 >= a)
                 .collect();
-            above.sort_by(|x, y| x.0.total_cmp(&y.0));
+            ritz.sort_by(|x, y| x.0.total_cmp(&y.0));
             let conv_below = |lim: f64| -> Vec<usize> {
-                above
-                    .iter()
+                ritz.iter()
                     .filter(|x| x.1 && x.0 < lim)
                     .map(|x| x.2)
                     .collect()
             };
             let found_here = in_slice.len();
+            if std::env::var("SATQUAL_DEBUG").is_ok() {
+                eprintln!(
+                    "slice a={a:e} s={s:e} c_a={c_a} c_s={c_s} restart={restart} p={p} basis={} more={more} conv={} found_here={found_here} edge={edge:?}",
+                    lz.blocks() * p,
+                    ritz.iter().filter(|x| x.1).count(),
+                );
+                if restart > 0 {
+                    let near: Vec<(f64, f64)> = ritz.iter().filter(|x| x.0 < s).map(|x| (x.0, res[x.2] / theta[x.2].abs())).collect();
+                    eprintln!("   below s: {near:?}");
+                    let got: Vec<f64> = in_slice.iter().map(|x| x.0).collect();
+                    eprintln!("   in_slice: {got:?}");
+                }
+            }
             // The whole rest of the band converged?
             if let Some((ts, tc)) = top {
                 let idx = conv_below(ts);
-                let total = c_a + found_here + idx.len();
+                let total = c_a + count_below(&in_slice, ts) + idx.len();
                 if total == tc {
-                    in_slice.extend(lz.vectors(&s, &idx, &theta, a));
+                    in_slice.extend(lz.vectors(&vecs, &idx, &theta, s));
+                    in_slice.retain(|x| x.0 < ts);
                     in_slice.sort_by(|x, y| x.0.total_cmp(&y.0));
-                    return Ok(SliceResult {
+                    return Ok(SliceOut {
                         pairs: in_slice,
-                        next: None,
+                        b: ts,
+                        c_b: tc,
                     });
                 }
                 if total > tc {
-                    return Err(ModalError::SturmMismatch {
-                        expected: tc,
-                        found: total,
-                        fmax_hz: hz(ts),
-                    }
-                    .into());
+                    return Err(mismatch(tc, total, ts));
                 }
             }
-            if edge.is_none() {
-                let run = above.iter().take_while(|x| x.1).count();
-                let enough = found_here + run >= SLICE_MODES.min(remaining);
-                if run > 0 && (enough || !more) {
-                    // The edge between the last converged eigenvalue of the unbroken run and
-                    // the next Ritz value (which over-estimates the next eigenvalue).
-                    let last = above[run - 1].0;
-                    let b = match above.get(run) {
-                        Some(x) => 0.5 * (last + x.0),
-                        None => last + 0.5 * (last - a).abs().max(1e-9 * last.abs()),
-                    };
-                    if top.is_none_or(|(ts, _)| b < ts) {
-                        let fac_b = factor_away_from_eigenvalue(pencil, b, stats)?;
-                        let need = fac_b.negative.checked_sub(c_a).ok_or_else(|| {
-                            ModalError::SturmMismatch {
-                                expected: fac_b.negative,
-                                found: c_a,
-                                fmax_hz: hz(fac_b.sigma),
+            let below_have = count_below(&in_slice, s) + conv_below(s).len();
+            if below_have > c_s - c_a {
+                return Err(mismatch(c_s, c_a + below_have, s));
+            }
+            if edge.is_none() && below_have == c_s - c_a {
+                // Everything in [a, s) converged: extend the slice over the unbroken run
+                // of converged eigenvalues above s.
+                let above: Vec<(f64, bool, usize)> =
+                    ritz.iter().copied().filter(|x| x.0 > s).collect();
+                let run_end = unbroken_run(&above);
+                let converged = run_end
+                    .map(|e| above[..=e].iter().filter(|x| x.1).count())
+                    .unwrap_or(0);
+                let enough = below_have + converged >= SLICE_MODES.min(remaining);
+                if enough || !more {
+                    let b = match run_end {
+                        None => s,
+                        Some(e) => {
+                            let last = above[e].0;
+                            match above[e + 1..]
+                                .iter()
+                                .find(|x| x.0 > last + 1e-8 * last.abs())
+                            {
+                                Some(x) => 0.5 * (last + x.0),
+                                None => last + 0.5 * (last - s).abs().max(1e-9 * last.abs()),
                             }
-                        })?;
-                        edge = Some((fac_b, need));
+                        }
+                    };
+                    if b == s {
+                        edge = Some((s, c_s));
+                    } else if top.is_none_or(|(ts, _)| b < ts) {
+                        let fac_b = factor_away_from_eigenvalue(pencil, b, stats)?;
+                        edge = Some((fac_b.sigma, fac_b.negative));
                     }
                 }
             }
-            if let Some((fac_b, need)) = &edge {
-                let b = fac_b.sigma;
+            if let Some((b, c_b)) = edge {
+                let need = c_b.checked_sub(c_a).ok_or_else(|| mismatch(c_b, c_a, b))?;
                 let idx = conv_below(b);
-                let have = found_here + idx.len();
-                if have == *need {
-                    in_slice.extend(lz.vectors(&s, &idx, &theta, a));
+                let have = count_below(&in_slice, b) + idx.len();
+                if have == need {
+                    in_slice.extend(lz.vectors(&vecs, &idx, &theta, s));
+                    in_slice.retain(|x| x.0 < b);
                     in_slice.sort_by(|x, y| x.0.total_cmp(&y.0));
-                    let (fac_b, _) = edge.take().expect("edge");
-                    return Ok(SliceResult {
+                    return Ok(SliceOut {
                         pairs: in_slice,
-                        next: Some(fac_b),
+                        b,
+                        c_b,
                     });
                 }
-                if have > *need {
-                    return Err(ModalError::SturmMismatch {
-                        expected: c_a + need,
-                        found: c_a + have,
-                        fmax_hz: hz(b),
-                    }
-                    .into());
+                if have > need {
+                    return Err(mismatch(c_b, c_a + have, b));
                 }
             }
             if more {
                 continue;
             }
-            // Basis full: lock what converged below the edge (or the top of the band) and
-            // restart for the missing ones.
-            let upper = edge
-                .as_ref()
-                .map(|e| e.0.sigma)
-                .or(top.map(|t| t.0))
-                .unwrap_or(f64::NEG_INFINITY);
-            let got = lz.vectors(&s, &conv_below(upper), &theta, a);
+            // Basis full: lock what converged below the edge (or below s) and restart for
+            // the missing ones.
+            let upper = edge.map(|e| e.0).unwrap_or(s);
+            let got = lz.vectors(&vecs, &conv_below(upper), &theta, s);
             let q0 = locked.ncols();
             let mut nl = Mat::<f64>::zeros(n, q0 + got.len());
             nl.as_mut().subcols_mut(0, q0).copy_from(locked.as_ref());
@@ -883,13 +988,41 @@ fn run_slice<'a>(
             }
             locked = nl;
             in_slice.extend(got);
+            let need = edge.map(|e| e.1).unwrap_or(c_s) - c_a;
+            let missing = need.saturating_sub(count_below(&in_slice, upper));
+            block = (missing + 2).clamp(BLOCK, 4 * BLOCK);
             break;
         }
     }
     Err(ModalError::NoConvergence(format!(
-        "shift-invert Lanczos at σ = {a:e} rad²/s²: the slice did not complete after 12 restarts"
+        "shift-invert Lanczos at σ = {s:e} rad²/s²: the slice above {a:e} did not complete after 12 restarts"
     ))
     .into())
+}
+
+fn count_below(pairs: &[(f64, Vec<f64>)], lim: f64) -> usize {
+    pairs.iter().filter(|x| x.0 < lim).count()
+}
+
+/// Index (into `above`, sorted by λ) of the last converged Ritz value of the unbroken run of
+/// converged values from the bottom. An unconverged value that repeats a converged one to
+/// 1e-8 (a further copy of a multiple eigenvalue entering the basis) does not break the run:
+/// the Sturm count at the edge will say whether copies are missing.
+fn unbroken_run(above: &[(f64, bool, usize)]) -> Option<usize> {
+    let mut end = None;
+    for (i, x) in above.iter().enumerate() {
+        if x.1 {
+            end = Some(i);
+            continue;
+        }
+        let near = |y: &&(f64, bool, usize)| (y.0 - x.0).abs() <= 1e-8 * x.0.abs();
+        let dup = above[..i].iter().rev().take_while(near).any(|y| y.1)
+            || above[i + 1..].iter().take_while(near).any(|y| y.1);
+        if !dup {
+            break;
+        }
+    }
+    end
 }
 
 /// Block Lanczos with full re-orthogonalisation in the B-inner product, deflated against a
