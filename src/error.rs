@@ -82,9 +82,27 @@ pub enum SignalError {
     Invalid(String),
 }
 
-/// Separation-dynamics failures.
+/// Separation-dynamics failures. A run that fails stops at once and reports where and when;
+/// no partial history is written.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SeparationError {
+    /// The state became NaN or infinite: the run stopped at `time_s`; `body` names the body or
+    /// bar whose coordinates went non-finite first.
+    #[error(
+        "the separation run produced a non-finite state at t = {time_s} s in {body}; stopped, nothing written"
+    )]
+    NonFinite { time_s: f64, body: String },
+    /// The adaptive step fell below the round-off floor: the problem is too stiff for the tolerance.
+    #[error(
+        "the step size fell to {step_s:e} s at t = {time_s} s (round-off floor); loosen the tolerance or soften the contact"
+    )]
+    StepTooSmall { time_s: f64, step_s: f64 },
+    /// The step budget ran out before the end of the run.
+    #[error(
+        "more than {max_steps} steps before t = {time_s} s; raise max_steps or loosen the tolerance"
+    )]
+    TooManySteps { time_s: f64, max_steps: usize },
+    /// The model cannot be built (e.g. the bar modes failed).
     #[error("{0}")]
     Invalid(String),
 }

@@ -25,7 +25,7 @@ pub fn modal_with_solver(
     modes: Option<usize>,
     solver: Option<crate::spec::SolverChoice>,
 ) -> Result<(FeModel, ModalSystem), Error> {
-    let model = FeModel::from_scene(&scene.file).map_err(|e| locate(scene, e))?;
+    let model = FeModel::from_scene(&scene.model).map_err(|e| locate(scene, e))?;
     let mut spec = scene.file.modal.clone().unwrap_or_default();
     if let Some(s) = solver {
         spec.solver = s;
@@ -46,12 +46,28 @@ pub fn modal_with_solver(
         Error::Fem(f) => locate(scene, f),
         other => other,
     })?;
+    if let (Some(stack), Some(ps)) = (&scene.file.stack, &sys.result.prestress)
+        && let Some(lambda) = ps.buckling_factor
+            && lambda < 1.0 {
+                return Err(scene
+                    .locator()
+                    .err(
+                        "stack.preload_total_n",
+                        format!(
+                            "the preload of {:.0} N is above the stack's buckling load of {:.0} N (buckling factor {:.3}): reduce the preload or stiffen the columns",
+                            stack.preload_total_n,
+                            lambda * stack.preload_total_n,
+                            lambda
+                        ),
+                    )
+                    .into());
+            }
     Ok((model, sys))
 }
 
 /// The FE model of a scene, with FE errors located in the scene.
 pub fn fe_model(scene: &Scene) -> Result<FeModel, Error> {
-    FeModel::from_scene(&scene.file).map_err(|e| locate(scene, e))
+    FeModel::from_scene(&scene.model).map_err(|e| locate(scene, e))
 }
 
 /// Attaches the scene location of the node an FE error names, when it is a scene node.

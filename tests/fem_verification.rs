@@ -11,7 +11,7 @@ fn load(path: &str) -> Scene {
 }
 
 fn freqs(scene: &Scene, opts: ModalOptions) -> Vec<f64> {
-    let model = FeModel::from_scene(&scene.file).unwrap();
+    let model = FeModel::from_scene(&scene.model).unwrap();
     analyze(&model, &opts)
         .unwrap()
         .result
@@ -69,7 +69,7 @@ fn cantilever_first_mode_effective_mass() {
     // Source: clamped-free beam, first-mode effective mass 0.6131·m·L (e.g. Chopra, Dynamics
     // of Structures, §17); the issue quotes "about 0.613". Tolerance ±0.002.
     let s = load("test-specs/verification/cantilever.toml");
-    let model = FeModel::from_scene(&s.file).unwrap();
+    let model = FeModel::from_scene(&s.model).unwrap();
     let r = analyze(
         &model,
         &ModalOptions {
@@ -208,7 +208,7 @@ fn axially_loaded_pinned_bar_frequency_and_buckling() {
     let pcr = pi * pi * e * i / (l * l);
     for n in [45_000.0, -20_000.0] {
         let s = axial_bar(n);
-        let model = FeModel::from_scene(&s.file).unwrap();
+        let model = FeModel::from_scene(&s.model).unwrap();
         let sys = analyze(
             &model,
             &ModalOptions {
@@ -257,7 +257,7 @@ fn effective_mass_sums_and_orthonormality() {
         "test-specs/verification/nafems-fv5.toml",
     ] {
         let s = load(path);
-        let model = FeModel::from_scene(&s.file).unwrap();
+        let model = FeModel::from_scene(&s.model).unwrap();
         let sys = analyze(&model, &ModalOptions::default()).unwrap();
         let r = &sys.result;
         assert_eq!(r.modes.len(), r.dofs);
@@ -297,7 +297,7 @@ fn effective_mass_sums_and_orthonormality() {
 fn total_mass_includes_offset_masses() {
     // FV4: beam ρ·A·L = 8000·π·0.25²/4·10 = 15 707.96 kg plus 11 000 kg of point masses.
     let s = load("test-specs/verification/nafems-fv4.toml");
-    let model = FeModel::from_scene(&s.file).unwrap();
+    let model = FeModel::from_scene(&s.model).unwrap();
     let r = analyze(
         &model,
         &ModalOptions {

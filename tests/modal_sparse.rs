@@ -30,7 +30,7 @@ fn solve(
     fmax: Option<f64>,
     modes: Option<usize>,
 ) -> ModalResult {
-    let model = FeModel::from_scene(&scene.file).unwrap();
+    let model = FeModel::from_scene(&scene.model).unwrap();
     analyze(
         &model,
         &ModalOptions {
@@ -286,7 +286,7 @@ fn prestress_static_solve_and_buckling_agree() {
     // Compressive top loads: the static solve (sparse LDLᵀ of K) and the buckling factor
     // (Lanczos on K⁻¹·(−K_G)) against the dense Cholesky solve and dense eigen-solve.
     let scene = parse(&frame(3, 2, 6, 2, false, 2.0e4));
-    let model = FeModel::from_scene(&scene.file).unwrap();
+    let model = FeModel::from_scene(&scene.model).unwrap();
     let run = |solver| {
         analyze(
             &model,
@@ -344,7 +344,7 @@ fn sturm_mismatch_fails_loudly() {
 #[test]
 fn sparse_without_a_band_is_refused() {
     let scene = load("test-specs/verification/nafems-fv4.toml");
-    let model = FeModel::from_scene(&scene.file).unwrap();
+    let model = FeModel::from_scene(&scene.model).unwrap();
     let e = analyze(
         &model,
         &ModalOptions {
@@ -366,7 +366,7 @@ fn sparse_static_solve_names_the_mechanism() {
     // A free frame under a static load cannot be solved: the sparse LDLᵀ of K meets a
     // pivot at round-off level and names a node and DOF, as the dense path does.
     let scene = parse(&frame(2, 2, 2, 1, true, 100.0));
-    let model = FeModel::from_scene(&scene.file).unwrap();
+    let model = FeModel::from_scene(&scene.model).unwrap();
     let e = analyze(
         &model,
         &ModalOptions {

@@ -18,6 +18,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     match args.what.as_str() {
         "fem" => super::bench_fem::run(&args.out).map(|_| Outcome::Pass),
         "modal" => super::bench_modal::run(&args.out).map(|_| Outcome::Pass),
+        "separation" => super::bench_separation::run(&args.out),
         other => Err(Error::Other(format!("unknown benchmark `{other}`"))),
     }
 }

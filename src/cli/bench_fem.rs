@@ -67,7 +67,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
                     }
                 }
                 let scene = Scene::parse(Path::new(path), &text)?;
-                let model = FeModel::from_scene(&scene.file)?;
+                let model = FeModel::from_scene(&scene.model)?;
                 // Best of three: the machines are shared and noisy.
                 let mut best = f64::INFINITY;
                 let mut result = None;

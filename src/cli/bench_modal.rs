@@ -439,7 +439,7 @@ fn crossover() -> Result<Vec<CrossRow>, Error> {
     for levels in [2usize, 4, 6, 9, 12] {
         let text = frame(4, 3, levels);
         let scene = Scene::parse(Path::new("frame.toml"), &text)?;
-        let model = FeModel::from_scene(&scene.file)?;
+        let model = FeModel::from_scene(&scene.model)?;
         let n = model.reduction()?.n_red;
         let modes = (n / 10).clamp(1, 100);
         let mut t = [0.0; 2];

@@ -9,7 +9,10 @@ use std::io::Write;
 mod bench;
 mod bench_fem;
 mod bench_modal;
+mod bench_separation;
+mod expand;
 mod modal;
+mod separate;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -26,6 +29,10 @@ pub struct Cli {
 pub enum Command {
     /// Natural frequencies, effective masses and (with static loads) the buckling factor.
     Modal(modal::Args),
+    /// Write a [stack] scene out as the generic model (TOML) on stdout.
+    Expand(expand::Args),
+    /// In-orbit release: separation dynamics of the stack, optionally a Monte Carlo.
+    Separate(separate::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -41,6 +48,8 @@ pub enum Outcome {
 pub fn run(cli: Cli) -> Result<Outcome, Error> {
     match cli.command {
         Command::Modal(a) => modal::run(a),
+        Command::Expand(a) => expand::run(a),
+        Command::Separate(a) => separate::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }

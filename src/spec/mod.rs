@@ -7,48 +7,52 @@
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod model;
+pub mod separation;
 pub mod stack;
 
 pub use model::*;
 pub use stack::{InterfaceSpec, StackSpec};
 
 use crate::error::SpecError;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The top-level scene table. Each analysis section is optional: an analysis the scene does
 /// not ask for is not run.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
     /// Free text shown in reports.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub title: Option<String>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub material: Vec<Material>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub section: Vec<Section>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub node: Vec<Node>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub beam: Vec<Beam>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub mass: Vec<Mass>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rigid: Vec<Rigid>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub spring: Vec<Spring>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub preload: Vec<Preload>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub support: Vec<Support>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub static_load: Vec<StaticLoad>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub modal: Option<ModalSpec>,
     /// A parametric stack, expanded into the generic model (issue: the preloaded stack).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stack: Option<StackSpec>,
+    /// The in-orbit release (issue 6): springs, schedule, contact; geometry from `[stack]`.
+    #[serde(default)]
+    pub separation: Option<separation::SeparationSpec>,
 }
 
 /// A loaded and validated scene, with its source kept for error locations and provenance.
@@ -56,7 +60,10 @@ pub struct SceneFile {
 pub struct Scene {
     pub path: PathBuf,
     pub text: String,
+    /// The scene as written.
     pub file: SceneFile,
+    /// The generic model: the file itself, or its `[stack]` expanded.
+    pub model: SceneFile,
 }
 
 impl Scene {
@@ -71,11 +78,22 @@ impl Scene {
         let loc = Locator::new(path, text)?;
         loc.check_finite()?;
         let file: SceneFile = toml::from_str(text).map_err(|e| loc.toml_error(&e))?;
-        model::validate(&file, &loc)?;
+        let model = match &file.stack {
+            Some(stack) => {
+                stack.validate(&file.material, &loc)?;
+                let mut m = file.clone();
+                m.stack = None;
+                stack.expand_into(&mut m);
+                m
+            }
+            None => file.clone(),
+        };
+        model::validate(&model, &loc)?;
         Ok(Scene {
             path: path.to_path_buf(),
             text: text.to_string(),
             file,
+            model,
         })
     }
 

@@ -46,8 +46,17 @@ pub struct StackSpec {
     pub preload_total_n: f64,
     /// Stiffness of one preloaded column-to-column (or column-to-platform) joint.
     pub interface: InterfaceSpec,
-    /// Beam elements per column segment.
-    #[serde(default = "two")]
+    /// Compression device joint between each bar top and the top column, locked after the
+    /// preload: axial stiffness, N/m. Assumption (the paper gives none): a threaded steel
+    /// nut/flange assembly, far stiffer than the bar (EA/L ≈ 2e7 N/m) it closes.
+    #[serde(default = "device_axial")]
+    pub device_axial_stiffness_n_m: f64,
+    /// Lateral stiffness of the same joint, N/m (same assumption). Its rotations are free: the
+    /// preload nut seats on a flange, and the bar's lower end on a spherical washer (§2.2, Fig. 3).
+    #[serde(default = "device_axial")]
+    pub device_lateral_stiffness_n_m: f64,
+    /// Beam elements per half column (the satellite attaches at mid-height).
+    #[serde(default = "one")]
     pub column_elements: usize,
     /// Beam elements per satellite pitch along each guide bar.
     #[serde(default = "two")]
@@ -56,6 +65,14 @@ pub struct StackSpec {
 
 fn two() -> usize {
     2
+}
+
+fn one() -> usize {
+    1
+}
+
+fn device_axial() -> f64 {
+    1e9
 }
 
 /// A preloaded joint as a spring: axial (z), shear (x, y) and rotational stiffness.
@@ -88,5 +105,330 @@ impl StackSpec {
     /// Radial clearance between a column bore and a centred guide bar, m.
     pub fn radial_clearance_m(&self) -> f64 {
         0.5 * (self.column_inner_diameter_m - self.bar_diameter_m)
+    }
+}
+
+use super::Locator;
+use super::model::{Beam, Mass, Node, Preload, Rigid, Section, Spring, Support, Theory};
+use crate::error::SpecError;
+
+/// Node-id scheme of the expansion (documented so that users can name response points):
+/// satellite i's rigid body `1000·i`; its column c (1–4) bottom, mid-height and top
+/// `1000·i + 10·c + 1/2/3`; the carrier-platform point under column c `10·c`; guide bar c at
+/// level j (0 = bottom of the lowest satellite, N = top of the stack) `100000·c + 10 + j`, its
+/// root `100000·c` and its free tip above the compression device `100000·c + 9999`.
+pub mod ids {
+    pub fn satellite(i: usize) -> i64 {
+        1000 * i as i64
+    }
+    pub fn column(i: usize, c: usize, k: usize) -> i64 {
+        1000 * i as i64 + 10 * c as i64 + k as i64
+    }
+    pub fn platform(c: usize) -> i64 {
+        10 * c as i64
+    }
+    pub fn bar(c: usize, level: usize) -> i64 {
+        100_000 * c as i64 + 10 + level as i64
+    }
+    pub fn bar_root(c: usize) -> i64 {
+        100_000 * c as i64
+    }
+    pub fn bar_tip(c: usize) -> i64 {
+        100_000 * c as i64 + 9999
+    }
+}
+
+impl StackSpec {
+    /// Height of the top of the stack above the bar root, m.
+    pub fn stack_top_z(&self) -> f64 {
+        self.base_height_m + self.satellites as f64 * self.satellite_pitch_m
+    }
+
+    /// Checks the stack's own consistency (the generic checks run on the expansion).
+    pub fn validate(&self, materials: &[super::Material], loc: &Locator) -> Result<(), SpecError> {
+        let k = |s: &str| format!("stack.{s}");
+        if self.satellites == 0 {
+            return Err(loc.err(&k("satellites"), "a stack needs at least one satellite"));
+        }
+        if self.preload_total_n <= 0.0 {
+            return Err(loc.err(
+                &k("preload_total_n"),
+                format!(
+                    "the preload must be positive, got {} N",
+                    self.preload_total_n
+                ),
+            ));
+        }
+        let pos = |key: &str, v: f64| -> Result<(), SpecError> {
+            if v > 0.0 {
+                Ok(())
+            } else {
+                Err(loc.err(&k(key), format!("must be positive, got {v}")))
+            }
+        };
+        pos("satellite_mass_kg", self.satellite_mass_kg)?;
+        pos("satellite_pitch_m", self.satellite_pitch_m)?;
+        pos("column_spacing_m", self.column_spacing_m[0])?;
+        pos("column_spacing_m", self.column_spacing_m[1])?;
+        pos("column_outer_diameter_m", self.column_outer_diameter_m)?;
+        pos("column_inner_diameter_m", self.column_inner_diameter_m)?;
+        pos("bar_diameter_m", self.bar_diameter_m)?;
+        pos("bar_length_m", self.bar_length_m)?;
+        pos(
+            "interface.axial_stiffness_n_m",
+            self.interface.axial_stiffness_n_m,
+        )?;
+        pos(
+            "device_axial_stiffness_n_m",
+            self.device_axial_stiffness_n_m,
+        )?;
+        for (key, v) in [
+            (
+                "interface.shear_stiffness_n_m",
+                self.interface.shear_stiffness_n_m,
+            ),
+            (
+                "interface.rotational_stiffness_n_m_rad",
+                self.interface.rotational_stiffness_n_m_rad,
+            ),
+            (
+                "interface.torsional_stiffness_n_m_rad",
+                self.interface.torsional_stiffness_n_m_rad,
+            ),
+            (
+                "device_lateral_stiffness_n_m",
+                self.device_lateral_stiffness_n_m,
+            ),
+            ("base_height_m", self.base_height_m),
+        ] {
+            if v < 0.0 {
+                return Err(loc.err(&k(key), format!("must not be negative, got {v}")));
+            }
+        }
+        for (i, v) in self.satellite_inertia_kg_m2.iter().enumerate() {
+            if *v < 0.0 {
+                return Err(loc.err(
+                    &format!("stack.satellite_inertia_kg_m2[{i}]"),
+                    format!("must not be negative, got {v}"),
+                ));
+            }
+        }
+        if self.column_elements == 0 || self.bar_elements_per_satellite == 0 {
+            return Err(loc.err(&k("column_elements"), "element counts must be at least 1"));
+        }
+        if self.column_inner_diameter_m >= self.column_outer_diameter_m {
+            return Err(loc.err(
+                &k("column_inner_diameter_m"),
+                format!(
+                    "the column bore {} m must be smaller than its outer diameter {} m",
+                    self.column_inner_diameter_m, self.column_outer_diameter_m
+                ),
+            ));
+        }
+        if self.bar_diameter_m >= self.column_inner_diameter_m {
+            return Err(loc.err(
+                &k("bar_diameter_m"),
+                format!(
+                    "the guide bar (diameter {} m) does not fit through the column bore (inner diameter {} m)",
+                    self.bar_diameter_m, self.column_inner_diameter_m
+                ),
+            ));
+        }
+        let top = self.stack_top_z();
+        if self.bar_length_m < top - 1e-9 {
+            return Err(loc.err(
+                &k("bar_length_m"),
+                format!(
+                    "the guide bars ({} m) are shorter than the stack they must clamp: base {} m + {} satellites × {} m = {} m",
+                    self.bar_length_m, self.base_height_m, self.satellites, self.satellite_pitch_m, top
+                ),
+            ));
+        }
+        for (key, name) in [
+            ("column_material", &self.column_material),
+            ("bar_material", &self.bar_material),
+        ] {
+            if !materials.iter().any(|m| &m.name == name) {
+                return Err(loc.err(&k(key), format!("material `{name}` is not defined")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Expands the stack into generic-model parts appended to `f` (materials stay as given).
+    pub fn expand_into(&self, f: &mut super::SceneFile) {
+        let n = self.satellites;
+        let xy = self.column_xy();
+        let z = |level: usize| self.base_height_m + level as f64 * self.satellite_pitch_m;
+        f.section.push(Section {
+            name: "stack column".into(),
+            shape: "tube".into(),
+            outer_diameter_m: Some(self.column_outer_diameter_m),
+            inner_diameter_m: Some(self.column_inner_diameter_m),
+            ..Default::default()
+        });
+        f.section.push(Section {
+            name: "stack guide bar".into(),
+            shape: "circle".into(),
+            diameter_m: Some(self.bar_diameter_m),
+            ..Default::default()
+        });
+        let beam = |name: String, a: i64, b: i64, sec: &str, mat: &str, el: usize| Beam {
+            name: Some(name),
+            nodes: [a, b],
+            section: sec.into(),
+            material: mat.into(),
+            elements: el,
+            orientation: Some([1.0, 0.0, 0.0]),
+            theory: Theory::Timoshenko,
+        };
+        let joint = |name: String, a: i64, b: i64| Spring {
+            name: Some(name),
+            nodes: [a, b],
+            stiffness: [
+                self.interface.shear_stiffness_n_m,
+                self.interface.shear_stiffness_n_m,
+                self.interface.axial_stiffness_n_m,
+                self.interface.rotational_stiffness_n_m_rad,
+                self.interface.rotational_stiffness_n_m_rad,
+                self.interface.torsional_stiffness_n_m_rad,
+            ],
+        };
+        for (c, p) in xy.iter().enumerate() {
+            let c = c + 1;
+            f.node.push(Node {
+                id: ids::platform(c),
+                position_m: [p[0], p[1], z(0)],
+            });
+            f.support.push(Support {
+                node: ids::platform(c),
+                dofs: "123456".into(),
+            });
+        }
+        for i in 1..=n {
+            let bottom = z(n - i);
+            let mid = bottom + 0.5 * self.satellite_pitch_m;
+            let cg = self.satellite_cg_offset_m;
+            f.node.push(Node {
+                id: ids::satellite(i),
+                position_m: [cg[0], cg[1], mid + cg[2]],
+            });
+            f.mass.push(Mass {
+                node: ids::satellite(i),
+                mass_kg: self.satellite_mass_kg,
+                inertia_kg_m2: self.satellite_inertia_kg_m2,
+                offset_m: [0.0; 3],
+            });
+            let mut slaves = Vec::new();
+            for (c, p) in xy.iter().enumerate() {
+                let c = c + 1;
+                for (k, zz) in [(1, bottom), (2, mid), (3, bottom + self.satellite_pitch_m)] {
+                    f.node.push(Node {
+                        id: ids::column(i, c, k),
+                        position_m: [p[0], p[1], zz],
+                    });
+                }
+                slaves.push(ids::column(i, c, 2));
+                let mat = &self.column_material;
+                let el = self.column_elements;
+                f.beam.push(beam(
+                    format!("sat {i} column {c} lower"),
+                    ids::column(i, c, 1),
+                    ids::column(i, c, 2),
+                    "stack column",
+                    mat,
+                    el,
+                ));
+                f.beam.push(beam(
+                    format!("sat {i} column {c} upper"),
+                    ids::column(i, c, 2),
+                    ids::column(i, c, 3),
+                    "stack column",
+                    mat,
+                    el,
+                ));
+                let below = if i == n {
+                    ids::platform(c)
+                } else {
+                    ids::column(i + 1, c, 3)
+                };
+                let name = if i == n {
+                    format!("interface platform/sat {i} column {c}")
+                } else {
+                    format!("interface sat {}/sat {i} column {c}", i + 1)
+                };
+                f.spring.push(joint(name, below, ids::column(i, c, 1)));
+            }
+            f.rigid.push(Rigid {
+                master: ids::satellite(i),
+                slaves,
+            });
+        }
+        let top = self.stack_top_z();
+        for (c, p) in xy.iter().enumerate() {
+            let c = c + 1;
+            let mat = &self.bar_material;
+            let el = self.bar_elements_per_satellite;
+            f.node.push(Node {
+                id: ids::bar_root(c),
+                position_m: [p[0], p[1], 0.0],
+            });
+            // The spherical washer at the bar's lower end (§2.2, Fig. 3 item 15) lets it rotate:
+            // translations and torsion held, bending rotations free.
+            f.support.push(Support {
+                node: ids::bar_root(c),
+                dofs: "1236".into(),
+            });
+            let mut prev = ids::bar_root(c);
+            for level in 0..=n {
+                if level == 0 && self.base_height_m <= 0.0 {
+                    // The root is level 0; alias it by giving the level-0 id to the root node.
+                    continue;
+                }
+                f.node.push(Node {
+                    id: ids::bar(c, level),
+                    position_m: [p[0], p[1], z(level)],
+                });
+                let elements = if level == 0 { el.max(1) } else { el };
+                f.beam.push(beam(
+                    format!("bar {c} segment {level}"),
+                    prev,
+                    ids::bar(c, level),
+                    "stack guide bar",
+                    mat,
+                    elements,
+                ));
+                prev = ids::bar(c, level);
+            }
+            f.preload.push(Preload {
+                name: Some(format!("compression device bar {c}")),
+                nodes: [prev, ids::column(1, c, 3)],
+                force_n: self.preload_total_n / 4.0,
+                axis: "z".into(),
+                stiffness: [
+                    self.device_lateral_stiffness_n_m,
+                    self.device_lateral_stiffness_n_m,
+                    self.device_axial_stiffness_n_m,
+                    0.0,
+                    0.0,
+                    0.0,
+                ],
+            });
+            let stub = self.bar_length_m - top;
+            if stub > 1e-6 {
+                f.node.push(Node {
+                    id: ids::bar_tip(c),
+                    position_m: [p[0], p[1], self.bar_length_m],
+                });
+                f.beam.push(beam(
+                    format!("bar {c} tip"),
+                    prev,
+                    ids::bar_tip(c),
+                    "stack guide bar",
+                    mat,
+                    1,
+                ));
+            }
+        }
     }
 }

@@ -1,0 +1,592 @@
+//! The `[separation]` scene section: springs, release schedule, contact and friction, guide-bar
+//! flexibility, integrator tolerance and Monte Carlo dispersions of the in-orbit release.
+//!
+//! The satellite and bar geometry is NOT repeated here: it comes from `[stack]`
+//! (`spec::stack`). This file owns only what the release adds to the hardware description.
+//! Every default lives in [`defaults`], one function per key, with its source.
+//! Semantic validation (signs, ranges, references, the release order) is in [`validate`] and
+//! reports the dotted key through the scene's [`Locator`].
+
+use super::Locator;
+use super::stack::StackSpec;
+use crate::error::SpecError;
+use serde::{Deserialize, Serialize};
+
+/// Most bending modes per plane of a guide bar (the right-hand side keeps them on the stack).
+pub const MAX_BAR_MODES: usize = 8;
+
+/// `[separation]`.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SeparationSpec {
+    /// Time from the unlock command to the release of the preload by the compression device, s.
+    #[serde(default = "defaults::unlock_time_s")]
+    pub unlock_time_s: f64,
+    /// Delay between consecutive electromagnet releases when `release` is empty, s.
+    #[serde(default = "defaults::release_interval_s")]
+    pub release_interval_s: f64,
+    /// Explicit electromagnet schedule. Empty: interface k releases at
+    /// `(k - 1) * release_interval_s` after the unlock, top first.
+    #[serde(default)]
+    pub release: Vec<ReleaseSpec>,
+    /// Number of bending modes per plane of each guide bar, or `"rigid"`.
+    #[serde(default = "defaults::bar_modes")]
+    pub bar_modes: BarModesChoice,
+    /// Beam elements of the bar model that gives the modes (fem::cantilever_bar_modes).
+    #[serde(default = "defaults::bar_elements")]
+    pub bar_elements: usize,
+    /// Modal damping ratio of the guide-bar modes.
+    #[serde(default = "defaults::bar_damping_ratio")]
+    pub bar_damping_ratio: f64,
+    /// The four separation springs of every interface (nominal values).
+    pub spring: SpringSpec,
+    /// Per-interface overrides of the springs.
+    #[serde(default)]
+    pub interface: Vec<InterfaceOverride>,
+    #[serde(default)]
+    pub contact: ContactSpec,
+    /// Present: the carrier platform is a free body (then the bars must be rigid). Absent: the
+    /// carrier is fixed (it is the launcher's upper stage, orders of magnitude heavier).
+    #[serde(default)]
+    pub carrier: Option<CarrierSpec>,
+    /// Integrator tolerance: relative tolerance of Dormand–Prince 5(4); absolute tolerances are
+    /// this times a physical scale per state kind (see `separation::integrator`).
+    #[serde(default = "defaults::tolerance")]
+    pub tolerance: f64,
+    /// Largest step, s. Bounds the time a contact could open and close unseen inside one step.
+    #[serde(default = "defaults::max_step_s")]
+    pub max_step_s: f64,
+    /// The run stops here even if satellites are still on the bars, s.
+    #[serde(default = "defaults::max_time_s")]
+    pub max_time_s: f64,
+    #[serde(default = "defaults::max_steps")]
+    pub max_steps: usize,
+    /// Sampling interval of the CSV histories (`--out`), s.
+    #[serde(default = "defaults::output_interval_s")]
+    pub output_interval_s: f64,
+    /// Monte Carlo dispersions.
+    #[serde(default)]
+    pub dispersion: DispersionSpec,
+}
+
+/// A count of modes per bending plane, or the word `rigid`.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum BarModesChoice {
+    Modes(usize),
+    Word(String),
+}
+
+impl BarModesChoice {
+    /// `Some(n)` for flexible bars with n modes per plane, `None` for rigid bars.
+    pub fn modes(&self) -> Option<usize> {
+        match self {
+            BarModesChoice::Modes(n) => Some(*n),
+            BarModesChoice::Word(_) => None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ReleaseSpec {
+    /// Interface k lies below satellite k (k = N: between satellite N and the carrier).
+    pub interface: usize,
+    /// Delay after the compression device has unlocked, s.
+    pub delay_s: f64,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    /// Nominal stiffness of one spring, N/m.
+    pub stiffness_n_m: f64,
+    /// Travel of the spring plunger before its end stop, m.
+    pub stroke_m: f64,
+    /// Spring length when the interface is latched, m.
+    #[serde(default = "defaults::installed_length_m")]
+    pub installed_length_m: f64,
+    /// Unloaded length, m. Default: installed length + stroke (the spring reaches its free
+    /// length exactly at the end stop).
+    #[serde(default)]
+    pub free_length_m: Option<f64>,
+    /// Relative stiffness error of the four springs, columns (+,+), (−,+), (−,−), (+,−):
+    /// k = nominal × (1 + error).
+    #[serde(default)]
+    pub stiffness_error: [f64; 4],
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct InterfaceOverride {
+    pub interface: usize,
+    #[serde(default)]
+    pub stiffness_error: Option<[f64; 4]>,
+    #[serde(default)]
+    pub stroke_m: Option<[f64; 4]>,
+    #[serde(default)]
+    pub free_length_m: Option<[f64; 4]>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// Lankarani–Nikravesh stiffness K (paper eq. 33), N/m^exponent.
+    #[serde(default = "defaults::contact_stiffness_n_m1_5")]
+    pub stiffness_n_m1_5: f64,
+    /// Hertz exponent n (paper eq. 33).
+    #[serde(default = "defaults::contact_exponent")]
+    pub exponent: f64,
+    /// Coefficient of restitution Ce (paper eq. 34), in (0, 1].
+    #[serde(default = "defaults::restitution")]
+    pub restitution: f64,
+    /// Coulomb coefficient c_f (paper eq. 36).
+    #[serde(default = "defaults::friction")]
+    pub friction: f64,
+    /// Friction thresholds v0 < v1 of the modified coefficient c_d (paper eq. 37), m/s.
+    #[serde(default = "defaults::v0_m_s")]
+    pub v0_m_s: f64,
+    #[serde(default = "defaults::v1_m_s")]
+    pub v1_m_s: f64,
+    /// Radial clearance bore–bar, m. Default: from `[stack]`, (bore − bar diameter)/2.
+    #[serde(default)]
+    pub clearance_m: Option<f64>,
+    /// Floor of the latched impact speed δ̇⁻, m/s: a grazing contact would otherwise get an
+    /// unbounded damping coefficient (eq. 34 divides by δ̇⁻).
+    #[serde(default = "defaults::min_impact_speed_m_s")]
+    pub min_impact_speed_m_s: f64,
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        ContactSpec {
+            stiffness_n_m1_5: defaults::contact_stiffness_n_m1_5(),
+            exponent: defaults::contact_exponent(),
+            restitution: defaults::restitution(),
+            friction: defaults::friction(),
+            v0_m_s: defaults::v0_m_s(),
+            v1_m_s: defaults::v1_m_s(),
+            clearance_m: None,
+            min_impact_speed_m_s: defaults::min_impact_speed_m_s(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CarrierSpec {
+    pub mass_kg: f64,
+    /// Principal moments about the carrier's CG, which sits at the bar-root origin, kg·m².
+    pub inertia_kg_m2: [f64; 3],
+}
+
+/// Monte Carlo dispersions (1σ for normal ones, bounds for uniform ones). All zero by default.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct DispersionSpec {
+    /// 1σ relative stiffness error of each spring, added to the nominal error.
+    #[serde(default)]
+    pub spring_stiffness_sigma: f64,
+    /// 1σ lateral (x and y) CG offset of each satellite, m.
+    #[serde(default)]
+    pub cg_offset_sigma_m: f64,
+    /// Uniform radial clearance range, m.
+    #[serde(default)]
+    pub clearance_range_m: Option<[f64; 2]>,
+    /// Uniform friction coefficient range.
+    #[serde(default)]
+    pub friction_range: Option<[f64; 2]>,
+    /// 1σ skew of each electromagnet release time, s (a negative draw is clamped at the unlock).
+    #[serde(default)]
+    pub release_skew_sigma_s: f64,
+}
+
+/// Every default of `[separation]`, with its source.
+pub mod defaults {
+    use super::BarModesChoice;
+
+    /// Paper §5.1.2: measured mean unlocking time of the compression device, 312 ms.
+    pub fn unlock_time_s() -> f64 {
+        0.312
+    }
+    /// Assumption: the paper releases "one by one" without a figure; 2 s lets each satellite
+    /// clear its spring stroke and gain ≥ 0.5 m before the next one starts.
+    pub fn release_interval_s() -> f64 {
+        2.0
+    }
+    /// Assumption: three bending modes per plane (for the paper's 3.85 m bar ≈ 1, 6 and
+    /// 17 Hz). Measured on the first release of the reference scene (docs/separation.md):
+    /// exit speed 0.35267 / 0.35143 / 0.34987 / 0.34899 / 0.34941 m/s with 1 … 5 modes, so
+    /// three modes sit within 1e-3 m/s of four and five; one mode is 3e-3 m/s off.
+    pub fn bar_modes() -> BarModesChoice {
+        BarModesChoice::Modes(3)
+    }
+    /// 40 elements sample the mode shapes finely enough for the cubic spline between stations.
+    pub fn bar_elements() -> usize {
+        40
+    }
+    /// Assumption: 1% modal damping, typical of a bolted steel bar (the paper gives none).
+    pub fn bar_damping_ratio() -> f64 {
+        0.01
+    }
+    /// Assumption: only the compression (free − installed) matters to the dynamics; 50 mm is a
+    /// plausible installed length for an 80 mm stroke.
+    pub fn installed_length_m() -> f64 {
+        0.05
+    }
+    /// Assumption: Hertz K = 4/3·E*·√R for a steel bar on an aluminium bore edge of ≈1 mm
+    /// radius: E* = 58.6 GPa, √R = 0.0316 → 2.5e9 N/m^1.5.
+    pub fn contact_stiffness_n_m1_5() -> f64 {
+        2.5e9
+    }
+    /// Hertz point contact, paper eq. 33 (n = 1.5).
+    pub fn contact_exponent() -> f64 {
+        1.5
+    }
+    /// Assumption: 0.8, metal on metal at low speed; the paper says only "large recovery
+    /// coefficient" (§3.3).
+    pub fn restitution() -> f64 {
+        0.8
+    }
+    /// Assumption: 0.2, steel on anodised aluminium with dry lubricant.
+    pub fn friction() -> f64 {
+        0.2
+    }
+    /// Assumption: the MSC ADAMS defaults behind the paper's eq. 37 (stiction transition
+    /// 0.1 mm/s, friction transition 10 mm/s).
+    pub fn v0_m_s() -> f64 {
+        1e-4
+    }
+    pub fn v1_m_s() -> f64 {
+        1e-2
+    }
+    /// 0.1 mm/s: below the v0 friction threshold, i.e. a contact that is not an impact.
+    pub fn min_impact_speed_m_s() -> f64 {
+        1e-4
+    }
+    /// Measured (`satqual bench separation`, tests/separation_accuracy.rs): at 1e-8 the exit
+    /// speeds of the well-conditioned reference cases move < 1e-4 m/s against 1e-10 (at 1e-7
+    /// the flexible first release of the reference scene moved 1.4e-4 m/s) and the energy
+    /// residual is ~1e-10 of the spring energy; looser tolerances save little time, because
+    /// the contact pulses, not the tolerance, set the step in contact phases.
+    pub fn tolerance() -> f64 {
+        1e-8
+    }
+    /// 20 ms. A contact that opens and closes between two step ends is still felt by the
+    /// stages inside the step (the error estimate then rejects and shortens the step); this
+    /// bound keeps such a pulse from slipping between the stages of a long free-flight step.
+    pub fn max_step_s() -> f64 {
+        0.02
+    }
+    /// Long enough for the bottom satellite to travel 3.85 m at 0.1 m/s after a 10 s schedule.
+    pub fn max_time_s() -> f64 {
+        60.0
+    }
+    pub fn max_steps() -> usize {
+        5_000_000
+    }
+    pub fn output_interval_s() -> f64 {
+        0.01
+    }
+}
+
+/// Checks signs, ranges and references of `[separation]` against `[stack]`. Every error names
+/// the key.
+pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Result<(), SpecError> {
+    let n = stack.satellites;
+    let pos = |key: &str, v: f64| -> Result<(), SpecError> {
+        if v > 0.0 {
+            Ok(())
+        } else {
+            Err(loc.err(key, format!("must be positive, got {v}")))
+        }
+    };
+    let nonneg = |key: &str, v: f64| -> Result<(), SpecError> {
+        if v >= 0.0 {
+            Ok(())
+        } else {
+            Err(loc.err(key, format!("must not be negative, got {v}")))
+        }
+    };
+    // [stack] quantities the release depends on.
+    if n == 0 {
+        return Err(loc.err("stack.satellites", "must be at least 1"));
+    }
+    pos("stack.satellite_mass_kg", stack.satellite_mass_kg)?;
+    for (j, v) in stack.satellite_inertia_kg_m2.iter().enumerate() {
+        pos(&format!("stack.satellite_inertia_kg_m2[{j}]"), *v)?;
+    }
+    pos("stack.satellite_pitch_m", stack.satellite_pitch_m)?;
+    pos("stack.bar_length_m", stack.bar_length_m)?;
+    pos("stack.bar_diameter_m", stack.bar_diameter_m)?;
+    pos("stack.column_spacing_m[0]", stack.column_spacing_m[0])?;
+    pos("stack.column_spacing_m[1]", stack.column_spacing_m[1])?;
+    nonneg("stack.base_height_m", stack.base_height_m)?;
+    let top = stack.base_height_m + n as f64 * stack.satellite_pitch_m;
+    if top > stack.bar_length_m {
+        return Err(loc.err(
+            "stack.bar_length_m",
+            format!(
+                "the stack reaches {top} m above the bar root, above the {} m guide bars",
+                stack.bar_length_m
+            ),
+        ));
+    }
+    match spec.contact.clearance_m {
+        Some(c) => nonneg("separation.contact.clearance_m", c)?,
+        None => {
+            if stack.column_inner_diameter_m < stack.bar_diameter_m {
+                return Err(loc.err(
+                    "stack.column_inner_diameter_m",
+                    format!(
+                        "the column bore ({} m) is narrower than the guide bar ({} m): negative clearance",
+                        stack.column_inner_diameter_m, stack.bar_diameter_m
+                    ),
+                ));
+            }
+        }
+    }
+    // Timing and integrator.
+    nonneg("separation.unlock_time_s", spec.unlock_time_s)?;
+    nonneg("separation.release_interval_s", spec.release_interval_s)?;
+    if !(spec.tolerance > 0.0 && spec.tolerance <= 1e-2) {
+        return Err(loc.err(
+            "separation.tolerance",
+            format!("must lie in (0, 1e-2], got {}", spec.tolerance),
+        ));
+    }
+    pos("separation.max_step_s", spec.max_step_s)?;
+    pos("separation.max_time_s", spec.max_time_s)?;
+    pos("separation.output_interval_s", spec.output_interval_s)?;
+    if spec.max_steps == 0 {
+        return Err(loc.err("separation.max_steps", "must be at least 1"));
+    }
+    match &spec.bar_modes {
+        BarModesChoice::Modes(m) if *m == 0 || *m > MAX_BAR_MODES => {
+            return Err(loc.err(
+                "separation.bar_modes",
+                format!("must lie in 1..={MAX_BAR_MODES}, or be \"rigid\"; got {m}"),
+            ));
+        }
+        BarModesChoice::Word(w) if w != "rigid" => {
+            return Err(loc.err(
+                "separation.bar_modes",
+                format!("`{w}` is neither a mode count nor \"rigid\""),
+            ));
+        }
+        _ => {}
+    }
+    if spec.bar_elements < 2 {
+        return Err(loc.err("separation.bar_elements", "must be at least 2"));
+    }
+    nonneg("separation.bar_damping_ratio", spec.bar_damping_ratio)?;
+    // Springs.
+    let sp = &spec.spring;
+    pos("separation.spring.stiffness_n_m", sp.stiffness_n_m)?;
+    pos("separation.spring.stroke_m", sp.stroke_m)?;
+    pos(
+        "separation.spring.installed_length_m",
+        sp.installed_length_m,
+    )?;
+    if let Some(f) = sp.free_length_m
+        && f <= sp.installed_length_m
+    {
+        return Err(loc.err(
+            "separation.spring.free_length_m",
+            format!(
+                "must exceed the installed length {} m (a spring must be compressed), got {f}",
+                sp.installed_length_m
+            ),
+        ));
+    }
+    for (j, e) in sp.stiffness_error.iter().enumerate() {
+        if *e <= -1.0 {
+            return Err(loc.err(
+                &format!("separation.spring.stiffness_error[{j}]"),
+                format!("must exceed -1, got {e}"),
+            ));
+        }
+    }
+    let iface = |key: String, k: usize| -> Result<(), SpecError> {
+        if (1..=n).contains(&k) {
+            Ok(())
+        } else {
+            Err(loc.err(&key, format!("interface {k} does not exist: the stack has interfaces 1..={n} (k lies below satellite k)")))
+        }
+    };
+    for (i, o) in spec.interface.iter().enumerate() {
+        iface(format!("separation.interface[{i}].interface"), o.interface)?;
+        if let Some(s) = o.stroke_m {
+            for (j, v) in s.iter().enumerate() {
+                pos(&format!("separation.interface[{i}].stroke_m[{j}]"), *v)?;
+            }
+        }
+        if let Some(e) = o.stiffness_error {
+            for (j, v) in e.iter().enumerate() {
+                if *v <= -1.0 {
+                    return Err(loc.err(
+                        &format!("separation.interface[{i}].stiffness_error[{j}]"),
+                        format!("must exceed -1, got {v}"),
+                    ));
+                }
+            }
+        }
+        if let Some(f) = o.free_length_m {
+            for (j, v) in f.iter().enumerate() {
+                if *v <= sp.installed_length_m {
+                    return Err(loc.err(
+                        &format!("separation.interface[{i}].free_length_m[{j}]"),
+                        format!(
+                            "must exceed the installed length {} m, got {v}",
+                            sp.installed_length_m
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    let mut seen = vec![false; n + 1];
+    for (i, r) in spec.release.iter().enumerate() {
+        iface(format!("separation.release[{i}].interface"), r.interface)?;
+        nonneg(&format!("separation.release[{i}].delay_s"), r.delay_s)?;
+        if std::mem::replace(&mut seen[r.interface], true) {
+            return Err(loc.err(
+                &format!("separation.release[{i}].interface"),
+                format!("interface {} is released twice", r.interface),
+            ));
+        }
+    }
+    // Contact.
+    let c = &spec.contact;
+    pos("separation.contact.stiffness_n_m1_5", c.stiffness_n_m1_5)?;
+    if c.exponent < 1.0 {
+        return Err(loc.err(
+            "separation.contact.exponent",
+            format!("must be at least 1, got {}", c.exponent),
+        ));
+    }
+    if !(c.restitution > 0.0 && c.restitution <= 1.0) {
+        return Err(loc.err(
+            "separation.contact.restitution",
+            format!(
+                "the coefficient of restitution Ce must lie in (0, 1], got {}",
+                c.restitution
+            ),
+        ));
+    }
+    nonneg("separation.contact.friction", c.friction)?;
+    nonneg("separation.contact.v0_m_s", c.v0_m_s)?;
+    if c.v1_m_s <= c.v0_m_s {
+        return Err(loc.err(
+            "separation.contact.v1_m_s",
+            format!("must exceed v0_m_s = {}, got {}", c.v0_m_s, c.v1_m_s),
+        ));
+    }
+    pos(
+        "separation.contact.min_impact_speed_m_s",
+        c.min_impact_speed_m_s,
+    )?;
+    // Carrier.
+    if let Some(cr) = &spec.carrier {
+        pos("separation.carrier.mass_kg", cr.mass_kg)?;
+        for (j, v) in cr.inertia_kg_m2.iter().enumerate() {
+            pos(&format!("separation.carrier.inertia_kg_m2[{j}]"), *v)?;
+        }
+        if spec.bar_modes.modes().is_some() {
+            return Err(loc.err(
+                "separation.carrier",
+                "a free carrier needs `bar_modes = \"rigid\"`: flexible bars on an accelerating base are not modelled",
+            ));
+        }
+    }
+    // Dispersions.
+    let d = &spec.dispersion;
+    nonneg(
+        "separation.dispersion.spring_stiffness_sigma",
+        d.spring_stiffness_sigma,
+    )?;
+    nonneg(
+        "separation.dispersion.cg_offset_sigma_m",
+        d.cg_offset_sigma_m,
+    )?;
+    nonneg(
+        "separation.dispersion.release_skew_sigma_s",
+        d.release_skew_sigma_s,
+    )?;
+    if let Some([a, b]) = d.clearance_range_m
+        && (a < 0.0 || b < a)
+    {
+        return Err(loc.err(
+            "separation.dispersion.clearance_range_m",
+            format!("needs 0 <= min <= max, got [{a}, {b}]"),
+        ));
+    }
+    if let Some([a, b]) = d.friction_range
+        && (a < 0.0 || b < a)
+    {
+        return Err(loc.err(
+            "separation.dispersion.friction_range",
+            format!("needs 0 <= min <= max, got [{a}, {b}]"),
+        ));
+    }
+    validate_release_order(spec, n, loc)
+}
+
+/// The release times of the interfaces (absolute, from the unlock command), `None` = never.
+pub fn release_times(spec: &SeparationSpec, n: usize) -> Vec<Option<f64>> {
+    let mut t = vec![None; n + 1];
+    if spec.release.is_empty() {
+        for (k, tk) in t.iter_mut().enumerate().skip(1) {
+            *tk = Some(spec.unlock_time_s + (k - 1) as f64 * spec.release_interval_s);
+        }
+    } else {
+        for r in &spec.release {
+            t[r.interface] = Some(spec.unlock_time_s + r.delay_s);
+        }
+    }
+    t
+}
+
+/// A latched interface joins two bodies rigidly. The model integrates single rigid bodies
+/// only, so every release must leave each moving group as one body: satellites latched
+/// together but detached from a fixed carrier (or latched to a free one) would form a moving
+/// composite body, which is not modelled. Top-down release always satisfies this.
+fn validate_release_order(spec: &SeparationSpec, n: usize, loc: &Locator) -> Result<(), SpecError> {
+    let times = release_times(spec, n);
+    let mut distinct: Vec<f64> = times.iter().flatten().copied().collect();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup();
+    let fixed_carrier = spec.carrier.is_none();
+    for &t in &distinct {
+        // Bodies 1..=n are satellites, n+1 the carrier; interface k joins k and k+1.
+        let latched = |k: usize| times[k].is_none_or(|tk| tk > t);
+        let mut start = 1;
+        while start <= n + 1 {
+            let mut end = start;
+            while end <= n && latched(end) {
+                end += 1;
+            }
+            // Group start..=end.
+            let has_carrier = end == n + 1;
+            let size = end - start + 1;
+            if size > 1 && !(has_carrier && fixed_carrier) {
+                let key = spec
+                    .release
+                    .iter()
+                    .position(|r| times[r.interface] == Some(t))
+                    .map(|i| format!("separation.release[{i}].interface"))
+                    .unwrap_or_else(|| "separation.release".into());
+                let last = if has_carrier { n } else { end };
+                return Err(loc.err(
+                    &key,
+                    format!(
+                        "at t = {t} s satellites {start}..={last}{} are latched together but free to move; a moving composite body is not modelled: release the interfaces between them at the same time or earlier",
+                        if has_carrier { " and the free carrier" } else { "" }
+                    ),
+                ));
+            }
+            start = end + 1;
+        }
+    }
+    Ok(())
+}

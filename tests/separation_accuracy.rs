@@ -1,0 +1,211 @@
+//! Separation accuracy against analytic answers and the paper (issue 6, "Accuracy tests").
+//! Every reference value names its source and tolerance.
+
+use satqual::separation::{self, Model, RunOptions};
+use satqual::spec::Scene;
+use std::path::Path;
+
+fn paper() -> (Scene, Model) {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("test-specs/paper-stack.toml");
+    let scene = Scene::load(&p).expect("paper-stack.toml loads");
+    let model = Model::from_scene(&scene).expect("paper-stack.toml builds");
+    (scene, model)
+}
+
+/// The model with every spring at its nominal stiffness (no error).
+fn ideal(scene: &Scene, mut m: Model) -> Model {
+    let k = scene.file.separation.as_ref().unwrap().spring.stiffness_n_m;
+    for s in m.springs.iter_mut() {
+        s.stiffness_n_m = k;
+    }
+    m
+}
+
+#[test]
+fn ideal_release_peak_speed_is_the_analytic_spring_speed() {
+    let (scene, m) = paper();
+    let m = ideal(&scene, m);
+    let r = separation::run(&m, &RunOptions::default()).unwrap();
+    for (i, s) in r.satellites.iter().enumerate() {
+        // Analytic (grounded lower body, reduced mass = m): v = √(Σk·s²/m) when the springs
+        // reach their free length at the end stop (free = installed + stroke).
+        let springs = &m.springs[4 * i..4 * i + 4];
+        let sum_ks2: f64 = springs
+            .iter()
+            .map(|sp| sp.stiffness_n_m * sp.stroke_m * sp.stroke_m)
+            .sum();
+        let v = (sum_ks2 / m.satellites[i].mass_kg).sqrt();
+        assert!(
+            (s.max_speed_m_s - v).abs() / v < 1e-6,
+            "sat {}: {} vs analytic {v}",
+            i + 1,
+            s.max_speed_m_s
+        );
+        // Analytic peak acceleration Σk·s/m at the release instant.
+        let a: f64 = springs
+            .iter()
+            .map(|sp| sp.stiffness_n_m * sp.stroke_m)
+            .sum::<f64>()
+            / m.satellites[i].mass_kg;
+        assert!(
+            (s.max_accel_m_s2 - a).abs() / a < 1e-9,
+            "sat {}: accel {} vs {a}",
+            i + 1,
+            s.max_accel_m_s2
+        );
+        // Symmetric springs, centred CG: no torque, the rate stays zero.
+        assert!(
+            s.peak_rate_deg_s < 1e-12,
+            "sat {}: rate {}",
+            i + 1,
+            s.peak_rate_deg_s
+        );
+        assert_eq!(s.contacts, 0, "no contact in the ideal release");
+        assert!(s.exit_time_s.is_some());
+    }
+    // The assumed springs reproduce paper §4: maximum speed 0.347 m/s (to the 3 digits the
+    // paper gives, ±0.0005) and a peak acceleration "about 1.5 m/s²" (±1%).
+    let s1 = &r.satellites[0];
+    assert!(
+        (s1.max_speed_m_s - 0.347).abs() < 5e-4,
+        "{}",
+        s1.max_speed_m_s
+    );
+    assert!(
+        (s1.max_accel_m_s2 - 1.5).abs() < 0.015,
+        "{}",
+        s1.max_accel_m_s2
+    );
+}
+
+/// A free carrier: the springs push two free bodies apart. Relative peak speed
+/// √(Σk·s²/μ) with the reduced mass μ = m₁m₂/(m₁ + m₂); the satellite's share is μ/m₁ of it.
+#[test]
+fn two_body_push_uses_the_reduced_mass() {
+    let text = r#"
+[[material]]
+name = "steel"
+youngs_modulus_pa = 210e9
+poisson_ratio = 0.3
+density_kg_m3 = 7850
+
+[stack]
+satellites = 1
+satellite_mass_kg = 150.0
+satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
+satellite_pitch_m = 0.5
+base_height_m = 0.2
+column_spacing_m = [1.0, 0.8]
+column_outer_diameter_m = 0.04
+column_inner_diameter_m = 0.021
+column_material = "steel"
+bar_diameter_m = 0.02
+bar_length_m = 1.5
+bar_material = "steel"
+preload_total_n = 45000.0
+[stack.interface]
+axial_stiffness_n_m = 1e8
+shear_stiffness_n_m = 1e8
+rotational_stiffness_n_m_rad = 1e6
+torsional_stiffness_n_m_rad = 1e6
+
+[separation]
+bar_modes = "rigid"
+[separation.spring]
+stiffness_n_m = 700.0
+stroke_m = 0.08
+[separation.carrier]
+mass_kg = 450.0
+inertia_kg_m2 = [100.0, 100.0, 150.0]
+"#;
+    let scene = Scene::parse(Path::new("two-body.toml"), text).unwrap();
+    let m = Model::from_scene(&scene).unwrap();
+    let r = separation::run(&m, &RunOptions::default()).unwrap();
+    // The released body: the satellite plus its four steel columns (satellite_mass_kg excludes
+    // them): 150 + 4·7850·π/4·(0.04² − 0.021²)·0.5 kg.
+    let m1 = m.satellites[0].mass_kg;
+    let col =
+        4.0 * 7850.0 * std::f64::consts::PI / 4.0 * (0.04f64.powi(2) - 0.021f64.powi(2)) * 0.5;
+    assert!((m1 - (150.0 + col)).abs() < 1e-9);
+    let m2 = 450.0;
+    let mu = m1 * m2 / (m1 + m2);
+    let v_rel = (4.0 * 700.0 * 0.08f64.powi(2) / mu).sqrt();
+    let v_sat = v_rel * mu / m1;
+    let s = &r.satellites[0];
+    assert!(
+        (s.max_speed_m_s - v_sat).abs() / v_sat < 1e-6,
+        "{} vs {v_sat}",
+        s.max_speed_m_s
+    );
+    assert!(s.peak_rate_deg_s < 1e-12);
+    // Energy is shared by both bodies: the audit closes.
+    assert!(r.energy.max_relative_residual < 1e-8, "{:?}", r.energy);
+}
+
+#[test]
+fn energy_audit_closes_on_the_reference_scene() {
+    let (_, m) = paper();
+    let r = separation::run(&m, &RunOptions::default()).unwrap();
+    // Issue 6: residual below 1e-6 of the spring energy (end of run and over sampled steps).
+    assert!(r.energy.relative_residual < 1e-6, "{:?}", r.energy);
+    assert!(r.energy.max_relative_residual < 1e-6, "{:?}", r.energy);
+    // The audit is not vacuous: contacts and friction did dissipate energy.
+    assert!(r.energy.friction_loss_j > 0.0 && r.energy.contact_damping_loss_j > 0.0);
+    assert!(
+        r.satellites
+            .iter()
+            .all(|s| s.exit_time_s.is_some() && s.contacts > 0)
+    );
+    // Every contact that started also ended (eq. 38 cycle), up to edges still touching.
+    let t = r.transitions;
+    assert!(t.free_to_collision + t.detached_to_collision >= t.contact_to_detached);
+}
+
+/// Tolerance convergence (issue 6: final speeds change by < 1e-4 m/s between the default
+/// tolerance and 1/100 of it), on the two reference cases where the exit speeds are
+/// well-conditioned functions of the inputs:
+/// - the full six-satellite reference release with rigid bars (10% spring error, contacts);
+/// - the first release of the reference scene with its flexible bars (the other interfaces
+///   stay latched).
+///
+/// With flexible bars and all six releases, satellites 2–6 rattle with bars that also rattle
+/// in the bores of the latched satellites: that vibro-impact motion is chaotic, and a 1e-12
+/// relative change of the spring stiffness moves their exit speeds by up to 2e-3 m/s
+/// (docs/separation.md). No tolerance can converge those; the bench reports them.
+#[test]
+fn exit_speeds_converge_with_tolerance() {
+    let (_, base) = paper();
+    let tol = base.tolerance;
+    let mut rigid = base.clone();
+    rigid.bars = None;
+    let mut first = base.clone();
+    for t in first.release_times_s.iter_mut().skip(1) {
+        *t = None;
+    }
+    for (name, mut m, n) in [
+        ("rigid bars, six releases", rigid, 6),
+        ("flexible bars, first release", first, 1),
+    ] {
+        let a = separation::run(&m, &RunOptions::default()).unwrap();
+        m.tolerance = tol / 100.0;
+        let b = separation::run(&m, &RunOptions::default()).unwrap();
+        for i in 0..n {
+            let (sa, sb) = (&a.satellites[i], &b.satellites[i]);
+            assert!(
+                sa.contacts > 10,
+                "{name}: satellite {} has contacts: {}",
+                i + 1,
+                sa.contacts
+            );
+            let d = (sa.final_speed_m_s - sb.final_speed_m_s).abs();
+            assert!(
+                d < 1e-4,
+                "{name}: satellite {}: {} vs {} (Δ {d:e})",
+                i + 1,
+                sa.final_speed_m_s,
+                sb.final_speed_m_s
+            );
+        }
+        assert!(b.stats.steps > a.stats.steps);
+    }
+}
