@@ -48,8 +48,9 @@ pub fn modal_with_solver(
     })?;
     if let (Some(stack), Some(ps)) = (&scene.file.stack, &sys.result.prestress)
         && let Some(lambda) = ps.buckling_factor
-            && lambda < 1.0 {
-                return Err(scene
+        && lambda < 1.0
+    {
+        return Err(scene
                     .locator()
                     .err(
                         "stack.preload_total_n",
@@ -61,7 +62,7 @@ pub fn modal_with_solver(
                         ),
                     )
                     .into());
-            }
+    }
     Ok((model, sys))
 }
 

@@ -166,7 +166,9 @@ fn markdown(r: &Report) -> String {
         r.fmax_hz,
         r.tolerance,
         r.model,
-        std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
     );
     let _ = writeln!(
         s,
@@ -232,7 +234,13 @@ fn python_with_scipy() -> Option<PathBuf> {
 }
 
 /// Runs eigsh in shift-invert mode for the lowest `k` modes; returns (seconds, frequencies).
-fn eigsh(py: &Path, dir: &Path, kfile: &str, k: usize, n: usize) -> Result<(f64, Vec<f64>), String> {
+fn eigsh(
+    py: &Path,
+    dir: &Path,
+    kfile: &str,
+    k: usize,
+    n: usize,
+) -> Result<(f64, Vec<f64>), String> {
     if k == 0 || k >= n {
         return Err(format!("eigsh needs 0 < k < n (k = {k}, n = {n})"));
     }
@@ -287,7 +295,10 @@ fn stack_scenes() -> Result<(String, Vec<(usize, String)>), Error> {
             .iter()
             .map(|&n| (n, with_satellites(&base, n)))
             .collect();
-        return Ok(("test-specs/paper-stack.toml with `satellites = N`".into(), scenes));
+        return Ok((
+            "test-specs/paper-stack.toml with `satellites = N`".into(),
+            scenes,
+        ));
     }
     Ok((
         "generated stack-like generic model (the [stack] expansion is not on this build)".into(),
@@ -355,9 +366,21 @@ fn stand_in(n: usize) -> String {
         for i in 0..n {
             let z0 = base + i as f64 * pitch;
             node(&mut s, 100000 + 1000 * c + 2 * i + 1, x, y, z0);
-            node(&mut s, 100000 + 1000 * c + 2 * i + 2, x, y, z0 + 0.5 * pitch);
+            node(
+                &mut s,
+                100000 + 1000 * c + 2 * i + 2,
+                x,
+                y,
+                z0 + 0.5 * pitch,
+            );
         }
-        node(&mut s, 100000 + 1000 * c + 2 * n + 1, x, y, base + n as f64 * pitch);
+        node(
+            &mut s,
+            100000 + 1000 * c + 2 * n + 1,
+            x,
+            y,
+            base + n as f64 * pitch,
+        );
     }
     for i in 0..n {
         let z0 = base + i as f64 * pitch;
@@ -443,7 +466,10 @@ fn crossover() -> Result<Vec<CrossRow>, Error> {
         let n = model.reduction()?.n_red;
         let modes = (n / 10).clamp(1, 100);
         let mut t = [0.0; 2];
-        for (i, solver) in [SolverChoice::Dense, SolverChoice::Sparse].iter().enumerate() {
+        for (i, solver) in [SolverChoice::Dense, SolverChoice::Sparse]
+            .iter()
+            .enumerate()
+        {
             let t0 = Instant::now();
             analyze(
                 &model,
@@ -455,7 +481,10 @@ fn crossover() -> Result<Vec<CrossRow>, Error> {
             )?;
             t[i] = t0.elapsed().as_secs_f64();
         }
-        eprintln!("crossover: {n} DOFs, {modes} modes: dense {:.3} s, sparse {:.3} s", t[0], t[1]);
+        eprintln!(
+            "crossover: {n} DOFs, {modes} modes: dense {:.3} s, sparse {:.3} s",
+            t[0], t[1]
+        );
         rows.push(CrossRow {
             dofs: n,
             modes,

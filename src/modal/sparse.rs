@@ -826,11 +826,6 @@ fn run_slice(
     if c_s < c_a {
         return Err(mismatch(c_a, c_s, s));
     }
-    let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
-        let mut w = bv.to_owned();
-        fac_s.solve(w.as_mut());
-        w
-    };
     // Locked vectors: the previous slice's (the nearest below a) plus those converged here
     // before a restart.
     let mut locked = prev.clone();
@@ -840,7 +835,17 @@ fn run_slice(
     // A block of p random vectors brings at most p copies of a repeated eigenvalue into the
     // Krylov space: after a restart the block grows to the number still missing.
     let mut block = BLOCK;
+    // After a restart the Lanczos shift moves next to the eigenvalues still missing (often a
+    // cluster of repeated local modes far from s); s stays the counted partition point.
+    let mut restart_fac: Option<Factor<'_>> = None;
     for restart in 0..12 {
+        let cur = restart_fac.as_ref().unwrap_or(&fac_s);
+        let sh = cur.sigma;
+        let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
+            let mut w = bv.to_owned();
+            cur.solve(w.as_mut());
+            w
+        };
         if restart > 0 {
             stats.restarts += 1;
         }
@@ -873,8 +878,12 @@ fn run_slice(
                 .enumerate()
                 .filter(|(_, t)| **t != 0.0)
                 .map(|(i, &t)| {
-                    let l = s + 1.0 / t;
-                    (l, res[i] / (t * t) <= RESIDUAL_TOL * l.abs().max(s.abs()), i)
+                    let l = sh + 1.0 / t;
+                    (
+                        l,
+                        res[i] / (t * t) <= RESIDUAL_TOL * l.abs().max(sh.abs()),
+                        i,
+                    )
                 })
                 .filter(|x| x.0 >= a)
                 .collect();
@@ -888,12 +897,17 @@ fn run_slice(
             let found_here = in_slice.len();
             if std::env::var("SATQUAL_DEBUG").is_ok() {
                 eprintln!(
-                    "slice a={a:e} s={s:e} c_a={c_a} c_s={c_s} restart={restart} p={p} basis={} more={more} conv={} found_here={found_here} edge={edge:?}",
+                    "slice a={a:e} s={s:e} sh={sh:e} c_a={c_a} c_s={c_s} restart={restart} p={p} basis={} more={more} conv={} found_here={found_here} edge={edge:?}",
                     lz.blocks() * p,
                     ritz.iter().filter(|x| x.1).count(),
                 );
                 if restart > 0 {
-                    let near: Vec<(f64, f64)> = ritz.iter().filter(|x| x.0 < s).map(|x| (x.0, res[x.2] / theta[x.2].abs())).collect();
+                    let near: Vec<(f64, f64)> = ritz
+                        .iter()
+                        .filter(|x| x.0 < s && !x.1)
+                        .take(6)
+                        .map(|x| (x.0, res[x.2] / theta[x.2].abs()))
+                        .collect();
                     eprintln!("   below s: {near:?}");
                     let got: Vec<f64> = in_slice.iter().map(|x| x.0).collect();
                     eprintln!("   in_slice: {got:?}");
@@ -904,7 +918,7 @@ fn run_slice(
                 let idx = conv_below(ts);
                 let total = c_a + count_below(&in_slice, ts) + idx.len();
                 if total == tc {
-                    in_slice.extend(lz.vectors(&vecs, &idx, &theta, s));
+                    in_slice.extend(lz.vectors(&vecs, &idx, &theta, sh));
                     in_slice.retain(|x| x.0 < ts);
                     in_slice.sort_by(|x, y| x.0.total_cmp(&y.0));
                     return Ok(SliceOut {
@@ -958,7 +972,7 @@ fn run_slice(
                 let idx = conv_below(b);
                 let have = count_below(&in_slice, b) + idx.len();
                 if have == need {
-                    in_slice.extend(lz.vectors(&vecs, &idx, &theta, s));
+                    in_slice.extend(lz.vectors(&vecs, &idx, &theta, sh));
                     in_slice.retain(|x| x.0 < b);
                     in_slice.sort_by(|x, y| x.0.total_cmp(&y.0));
                     return Ok(SliceOut {
@@ -977,7 +991,18 @@ fn run_slice(
             // Basis full: lock what converged below the edge (or below s) and restart for
             // the missing ones.
             let upper = edge.map(|e| e.0).unwrap_or(s);
-            let got = lz.vectors(&vecs, &conv_below(upper), &theta, s);
+            let got = lz.vectors(&vecs, &conv_below(upper), &theta, sh);
+            // The next shift: at the unconverged Ritz value in [a, upper) closest to
+            // convergence (relative eigenvalue-error bound), i.e. where the missing ones are.
+            let target = ritz
+                .iter()
+                .filter(|x| !x.1 && x.0 < upper)
+                .map(|x| {
+                    let t = theta[x.2];
+                    (x.0, res[x.2] / (t * t) / x.0.abs().max(sh.abs()))
+                })
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .map(|x| x.0);
             let q0 = locked.ncols();
             let mut nl = Mat::<f64>::zeros(n, q0 + got.len());
             nl.as_mut().subcols_mut(0, q0).copy_from(locked.as_ref());
@@ -991,6 +1016,15 @@ fn run_slice(
             let need = edge.map(|e| e.1).unwrap_or(c_s) - c_a;
             let missing = need.saturating_sub(count_below(&in_slice, upper));
             block = (missing + 2).clamp(BLOCK, 4 * BLOCK);
+            let next = match target {
+                Some(l) => Some(factor_away_from_eigenvalue(
+                    pencil,
+                    l - 1e-7 * l.abs().max(f64::MIN_POSITIVE),
+                    stats,
+                )?),
+                None => None,
+            };
+            restart_fac = next;
             break;
         }
     }
