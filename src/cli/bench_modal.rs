@@ -5,8 +5,7 @@
 //!
 //! The stacks come from `test-specs/paper-stack.toml` with `satellites = N` substituted (and
 //! the guide bars lengthened by one pitch per added satellite, so that they still reach
-//! through the stack). Until the `[stack]` expansion exists on this branch, a generated
-//! stack-like generic model stands in, and the report says so.
+//! through the stack).
 //!
 //! Peak memory is the process's VmHWM after resetting it (`/proc/self/clear_refs` ← 5) before
 //! each solve. Timings are wall-clock, one run each: a benchmark, never a test.
@@ -283,26 +282,17 @@ print(json.dumps({{"time": t, "freq": f.tolist()}}))
     Ok((t, f))
 }
 
-/// The stack scenes: the paper stack with N satellites when it expands on this build, else
-/// the generated stand-in.
+/// The stack scenes: the paper stack with `satellites = N`.
 fn stack_scenes() -> Result<(String, Vec<(usize, String)>), Error> {
     let path = Path::new("test-specs/paper-stack.toml");
-    if let Ok(base) = std::fs::read_to_string(path)
-        && let Ok(scene) = Scene::parse(path, &base)
-        && satqual::pipeline::fe_model(&scene).is_ok_and(|m| !m.nodes.is_empty())
-    {
-        let scenes = SATELLITES
-            .iter()
-            .map(|&n| (n, with_satellites(&base, n)))
-            .collect();
-        return Ok((
-            "test-specs/paper-stack.toml with `satellites = N`".into(),
-            scenes,
-        ));
-    }
+    let base = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let scenes = SATELLITES
+        .iter()
+        .map(|&n| (n, with_satellites(&base, n)))
+        .collect();
     Ok((
-        "generated stack-like generic model (the [stack] expansion is not on this build)".into(),
-        SATELLITES.iter().map(|&n| (n, stand_in(n))).collect(),
+        "test-specs/paper-stack.toml with `satellites = N` (guide bars lengthened by one pitch per added satellite)".into(),
+        scenes,
     ))
 }
 
@@ -336,123 +326,6 @@ fn with_satellites(base: &str, n: usize) -> String {
             let _ = writeln!(s, "{line}");
         }
     }
-    s
-}
-
-/// A stack-like generic model: per satellite a 120 kg rigid body with four corner tube
-/// columns (one element each) on its rigid links, column-to-column interface springs, and four
-/// guide bars (two elements per pitch) held laterally at every column end and pulled against
-/// the top columns by a 45 kN preload applied as static loads.
-fn stand_in(n: usize) -> String {
-    let pitch = 0.6;
-    let base = 0.1;
-    let xy = [[0.45, 0.5], [-0.45, 0.5], [-0.45, -0.5], [0.45, -0.5]];
-    let mut s = String::from(
-        "title = \"stack stand-in\"\n[[material]]\nname = \"al\"\nyoungs_modulus_pa = 71.7e9\npoisson_ratio = 0.33\ndensity_kg_m3 = 2810\n\
-         [[material]]\nname = \"steel\"\nyoungs_modulus_pa = 200e9\npoisson_ratio = 0.29\ndensity_kg_m3 = 7850\n\
-         [[section]]\nname = \"col\"\nshape = \"tube\"\nouter_diameter_m = 0.05\ninner_diameter_m = 0.024\n\
-         [[section]]\nname = \"bar\"\nshape = \"circle\"\ndiameter_m = 0.02\n",
-    );
-    let node = |s: &mut String, id: usize, x: f64, y: f64, z: f64| {
-        let _ = writeln!(s, "[[node]]\nid = {id}\nposition_m = [{x}, {y}, {z}]");
-    };
-    // ids: satellite i (0 = bottom) centre 1000·(i+1); column c bottom +10+c, top +20+c;
-    // bar c node 100000 + 1000·c + m: m = 0 the root, 2i+1 at satellite i's column bottom,
-    // 2i+2 at its mid-height, 2n+1 at the top of the top column.
-    for c in 0..4 {
-        let [x, y] = xy[c];
-        node(&mut s, 90 + c, x, y, 0.0); // platform
-        node(&mut s, 100000 + 1000 * c, x, y, 0.0);
-        for i in 0..n {
-            let z0 = base + i as f64 * pitch;
-            node(&mut s, 100000 + 1000 * c + 2 * i + 1, x, y, z0);
-            node(
-                &mut s,
-                100000 + 1000 * c + 2 * i + 2,
-                x,
-                y,
-                z0 + 0.5 * pitch,
-            );
-        }
-        node(
-            &mut s,
-            100000 + 1000 * c + 2 * n + 1,
-            x,
-            y,
-            base + n as f64 * pitch,
-        );
-    }
-    for i in 0..n {
-        let z0 = base + i as f64 * pitch;
-        node(&mut s, 1000 * (i + 1), 0.0, 0.0, z0 + 0.5 * pitch);
-        for c in 0..4 {
-            let [x, y] = xy[c];
-            node(&mut s, 1000 * (i + 1) + 10 + c, x, y, z0);
-            node(&mut s, 1000 * (i + 1) + 20 + c, x, y, z0 + pitch);
-        }
-    }
-    for i in 0..n {
-        let sat = 1000 * (i + 1);
-        let _ = writeln!(
-            s,
-            "[[mass]]\nnode = {sat}\nmass_kg = 120.0\ninertia_kg_m2 = [10.9, 15.3, 24.4]\n\
-             [[rigid]]\nmaster = {sat}\nslaves = [{}, {}, {}, {}]",
-            sat + 10,
-            sat + 11,
-            sat + 12,
-            sat + 13
-        );
-        for c in 0..4 {
-            let _ = writeln!(
-                s,
-                "[[beam]]\nnodes = [{}, {}]\nsection = \"col\"\nmaterial = \"al\"",
-                sat + 10 + c,
-                sat + 20 + c
-            );
-            let below = if i == 0 { 90 + c } else { sat - 1000 + 20 + c };
-            let _ = writeln!(
-                s,
-                "[[spring]]\nnodes = [{below}, {}]\nstiffness = [2e7, 2e7, 2e7, 1e5, 1e5, 1e5]",
-                sat + 10 + c
-            );
-            // The bar held laterally in the bore at the column bottom (and at the top).
-            let mut holds = vec![(2 * i + 1, sat + 10 + c)];
-            if i + 1 == n {
-                holds.push((2 * n + 1, sat + 20 + c));
-            }
-            for (m, col) in holds {
-                let _ = writeln!(
-                    s,
-                    "[[spring]]\nnodes = [{}, {col}]\nstiffness = [1e7, 1e7, 0.0, 0.0, 0.0, 0.0]",
-                    100000 + 1000 * c + m
-                );
-            }
-        }
-    }
-    for c in 0..4 {
-        let _ = writeln!(
-            s,
-            "[[support]]\nnode = {}\ndofs = \"123456\"\n[[support]]\nnode = {}\ndofs = \"123456\"",
-            90 + c,
-            100000 + 1000 * c
-        );
-        for m in 0..=(2 * n) {
-            let _ = writeln!(
-                s,
-                "[[beam]]\nnodes = [{}, {}]\nsection = \"bar\"\nmaterial = \"steel\"",
-                100000 + 1000 * c + m,
-                100000 + 1000 * c + m + 1
-            );
-        }
-        let top_bar = 100000 + 1000 * c + 2 * n + 1;
-        let top_col = 1000 * n + 20 + c;
-        let _ = writeln!(
-            s,
-            "[[static_load]]\nnode = {top_bar}\nforce_n = [0.0, 0.0, 11250.0]\n\
-             [[static_load]]\nnode = {top_col}\nforce_n = [0.0, 0.0, -11250.0]"
-        );
-    }
-    let _ = writeln!(s, "[modal]\nfmax_hz = {FMAX_HZ}");
     s
 }
 

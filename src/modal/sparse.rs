@@ -82,6 +82,10 @@ pub const MAX_BASIS: usize = 200;
 /// Accepted first-order bound on the relative eigenvalue error of a Ritz pair (module doc);
 /// frequencies then carry at most half of it.
 pub const RESIDUAL_TOL: f64 = 1e-10;
+/// Accepted ‖OP·y − θ·y‖_M / |θ| (ARPACK's criterion), which bounds the backward error of the
+/// eigenvector (module doc); looser than the eigenvalue criterion because its round-off floor
+/// grows with the distance from the shift.
+pub const VECTOR_TOL: f64 = 1e-9;
 /// A pivot d_i of an SPD factorization with d_i ≤ this × A_ii marks a singular direction:
 /// d_i/A_ii is the reciprocal of a condition number, and rounding alone leaves it near 1e-16
 /// on an exact mechanism.
@@ -147,21 +151,19 @@ impl SymCsc {
     pub fn mul(&self, x: MatRef<'_, f64>) -> Mat<f64> {
         let mut y = Mat::<f64>::zeros(self.n, x.ncols());
         for c in 0..x.ncols() {
-            let xc = x.col(c).try_as_col_major().expect("contiguous").as_slice();
-            let mut yc = y.col_mut(c);
-            let ys = yc
-                .as_mut()
-                .try_as_col_major_mut()
-                .expect("contiguous")
-                .as_slice_mut();
-            for j in 0..self.n {
-                let xj = xc[j];
+            let xc = col_vec_ref(x, c);
+            let mut yc = vec![0.0; self.n];
+            for (j, &xj) in xc.iter().enumerate() {
                 if xj == 0.0 {
                     continue;
                 }
-                for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                    ys[self.row_idx[p]] += self.val[p] * xj;
+                let (lo, hi) = (self.col_ptr[j], self.col_ptr[j + 1]);
+                for (&r, &v) in self.row_idx[lo..hi].iter().zip(&self.val[lo..hi]) {
+                    yc[r] += v * xj;
                 }
+            }
+            for (i, v) in yc.into_iter().enumerate() {
+                y[(i, c)] = v;
             }
         }
         y
@@ -304,8 +306,10 @@ impl Pencil {
         })
     }
 
-    /// Original index of the i-th eliminated unknown.
+    /// Original index of the i-th eliminated unknown. faer's supernodal LDLᵀ may report a
+    /// zero pivot at the end of its supernode, one past the last unknown: clamped.
     fn original(&self, i: usize) -> usize {
+        let i = i.min(self.n.saturating_sub(1));
         match self.symbolic.perm() {
             Some(p) => p.arrays().0[i],
             None => i,
@@ -439,6 +443,7 @@ impl Factor<'_> {
 /// Solves K·u = f with K symmetric positive definite (sparse LDLᵀ, one step of iterative
 /// refinement). A pivot that is not clearly positive names the unknown where K is singular.
 pub fn solve_spd(k: &SymCsc, f: &[f64]) -> Result<Vec<f64>, SparseError> {
+    faer::set_global_parallelism(Par::Seq);
     let pencil = Pencil::new(k, None)?;
     let fac = pencil.factor(0.0)?;
     if let Some(index) = fac.first_singular() {
@@ -469,6 +474,7 @@ fn solve_refined(k: &SymCsc, fac: &Factor<'_>, f: &[f64]) -> Vec<f64> {
 /// zero for K + σ·K_G, the operator (K + σ·K_G)⁻¹·K is K-self-adjoint with eigenvalues
 /// ν = λ/(λ − σ), and λ₁ becomes the largest ν, well separated.
 pub fn buckling_factor(k: &SymCsc, kg: &SymCsc) -> Result<Option<f64>, SparseError> {
+    faer::set_global_parallelism(Par::Seq);
     let n = k.n;
     let neg_kg = kg.scaled(-1.0);
     // The pencil (K, −K_G): factor(σ) is K + σ·K_G.
@@ -613,6 +619,9 @@ pub fn eigen(
     fmax_hz: Option<f64>,
     modes: Option<usize>,
 ) -> Result<(Vec<(f64, Vec<f64>)>, SparseStats), SparseError> {
+    // The operator forms of faer products (`A * B`) follow the global setting: sequential,
+    // as in the dense path, for thread-count-independent results.
+    faer::set_global_parallelism(Par::Seq);
     let n = k.n;
     let two_pi = 2.0 * std::f64::consts::PI;
     let pencil = Pencil::new(k, Some(m))?;
@@ -894,25 +903,6 @@ fn run_slice(
                     .map(|x| x.2)
                     .collect()
             };
-            let found_here = in_slice.len();
-            if std::env::var("SATQUAL_DEBUG").is_ok() {
-                eprintln!(
-                    "slice a={a:e} s={s:e} sh={sh:e} c_a={c_a} c_s={c_s} restart={restart} p={p} basis={} more={more} conv={} found_here={found_here} edge={edge:?}",
-                    lz.blocks() * p,
-                    ritz.iter().filter(|x| x.1).count(),
-                );
-                if restart > 0 {
-                    let near: Vec<(f64, f64)> = ritz
-                        .iter()
-                        .filter(|x| x.0 < s && !x.1)
-                        .take(6)
-                        .map(|x| (x.0, res[x.2] / theta[x.2].abs()))
-                        .collect();
-                    eprintln!("   below s: {near:?}");
-                    let got: Vec<f64> = in_slice.iter().map(|x| x.0).collect();
-                    eprintln!("   in_slice: {got:?}");
-                }
-            }
             // The whole rest of the band converged?
             if let Some((ts, tc)) = top {
                 let idx = conv_below(ts);
@@ -1019,7 +1009,7 @@ fn run_slice(
             let next = match target {
                 Some(l) => Some(factor_away_from_eigenvalue(
                     pencil,
-                    l - 1e-7 * l.abs().max(f64::MIN_POSITIVE),
+                    l - 1e-4 * l.abs().max(f64::MIN_POSITIVE),
                     stats,
                 )?),
                 None => None,
@@ -1032,6 +1022,52 @@ fn run_slice(
         "shift-invert Lanczos at σ = {s:e} rad²/s²: the slice above {a:e} did not complete after 12 restarts"
     ))
     .into())
+}
+
+/// B-orthonormalisation of a block by Cholesky QR, twice (CholQR2: matrix–matrix work instead
+/// of the column-by-column Gram–Schmidt). `None` when the block is too close to rank
+/// deficient for it (a relative Cholesky pivot under 1e-10), and the caller falls back.
+fn chol_qr2(u: &Mat<f64>, bu: &Mat<f64>) -> Option<(Mat<f64>, Mat<f64>, Mat<f64>)> {
+    use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+    let p = u.ncols();
+    let mut u = u.clone();
+    let mut bu = bu.clone();
+    let mut r = Mat::<f64>::identity(p, p);
+    for _ in 0..2 {
+        let g0 = u.transpose() * &bu;
+        let g = Mat::<f64>::from_fn(p, p, |i, j| 0.5 * (g0[(i, j)] + g0[(j, i)]));
+        let l = g.llt(Side::Lower).ok()?.L().to_owned();
+        for i in 0..p {
+            if !(l[(i, i)] * l[(i, i)] > 1e-10 * g[(i, i)]) {
+                return None;
+            }
+        }
+        // U ← U·L⁻ᵀ, i.e. Uᵀ ← L⁻¹·Uᵀ.
+        let mut ut = u.transpose().to_owned();
+        solve_lower_triangular_in_place(l.as_ref(), ut.as_mut(), Par::Seq);
+        u = ut.transpose().to_owned();
+        let mut but = bu.transpose().to_owned();
+        solve_lower_triangular_in_place(l.as_ref(), but.as_mut(), Par::Seq);
+        bu = but.transpose().to_owned();
+        r = l.transpose() * &r;
+    }
+    Some((u, bu, r))
+}
+
+fn col_vec(m: &Mat<f64>, c: usize) -> Vec<f64> {
+    col_vec_ref(m.as_ref(), c)
+}
+
+fn col_vec_ref(m: MatRef<'_, f64>, c: usize) -> Vec<f64> {
+    (0..m.nrows()).map(|i| m[(i, c)]).collect()
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
+    y.iter_mut().zip(x).for_each(|(y, x)| *y += alpha * x);
 }
 
 fn count_below(pairs: &[(f64, Vec<f64>)], lim: f64) -> usize {
@@ -1135,79 +1171,72 @@ impl<'x> Lanczos<'x> {
     /// vanishes (an invariant subspace) is replaced by a random vector with a zero column in R.
     fn normalize(
         &mut self,
-        mut u: Mat<f64>,
+        u: Mat<f64>,
         b: &SymCsc,
         upto: usize,
     ) -> (Mat<f64>, Mat<f64>, Mat<f64>, bool) {
         let p = u.ncols();
         let n = self.n;
+        let bu_m = b.mul(u.as_ref());
+        if let Some((u, bu, r)) = chol_qr2(&u, &bu_m) {
+            return (u, bu, r, false);
+        }
         let mut r = Mat::<f64>::zeros(p, p);
-        let mut bu = b.mul(u.as_ref());
-        let norms0: Vec<f64> = (0..p)
-            .map(|c| {
-                let d: f64 = (0..n).map(|i| u[(i, c)] * bu[(i, c)]).sum();
-                d.max(0.0).sqrt()
-            })
-            .collect();
-        let scale = norms0.iter().copied().fold(0.0, f64::max);
+        let mut uc: Vec<Vec<f64>> = (0..p).map(|c| col_vec(&u, c)).collect();
+        let mut bc: Vec<Vec<f64>> = (0..p).map(|c| col_vec(&bu_m, c)).collect();
+        let scale = (0..p)
+            .map(|c| dot(&uc[c], &bc[c]).max(0.0).sqrt())
+            .fold(0.0, f64::max);
         let mut exhausted = false;
         for c in 0..p {
+            let (done_u, rest_u) = uc.split_at_mut(c);
+            let (done_b, rest_b) = bc.split_at_mut(c);
+            let (uc_c, bc_c) = (&mut rest_u[0], &mut rest_b[0]);
             for _ in 0..2 {
                 for d in 0..c {
-                    let h: f64 = (0..n).map(|i| bu[(i, d)] * u[(i, c)]).sum();
-                    for i in 0..n {
-                        u[(i, c)] -= h * u[(i, d)];
-                        bu[(i, c)] -= h * bu[(i, d)];
-                    }
+                    let h = dot(&done_b[d], uc_c);
+                    axpy(-h, &done_u[d], uc_c);
+                    axpy(-h, &done_b[d], bc_c);
                     r[(d, c)] += h;
                 }
             }
-            let nn: f64 = (0..n).map(|i| u[(i, c)] * bu[(i, c)]).sum::<f64>();
-            let norm = nn.max(0.0).sqrt();
+            let norm = dot(uc_c, bc_c).max(0.0).sqrt();
             if norm > 1e-10 * scale.max(f64::MIN_POSITIVE) && norm > 0.0 {
                 r[(c, c)] = norm;
-                for i in 0..n {
-                    u[(i, c)] /= norm;
-                    bu[(i, c)] /= norm;
-                }
+                uc_c.iter_mut().for_each(|x| *x /= norm);
+                bc_c.iter_mut().for_each(|x| *x /= norm);
                 continue;
             }
-            // Breakdown: a fresh random direction, orthogonal to everything so far.
+            // Breakdown: a fresh random direction, orthogonal to everything so far; r[(c, c)]
+            // stays 0, as this column carries no Krylov coupling.
             let mut w = Mat::<f64>::from_fn(n, 1, |_, _| self.rng.random::<f64>() - 0.5);
-            let w0: f64 = {
+            let w0 = {
                 let bw = b.mul(w.as_ref());
-                (0..n).map(|i| w[(i, 0)] * bw[(i, 0)]).sum::<f64>().sqrt()
+                dot(&col_vec(&w, 0), &col_vec(&bw, 0)).max(0.0).sqrt()
             };
             let _ = self.orthogonalize(w.as_mut(), upto);
+            let mut wv = col_vec(&w, 0);
             for _ in 0..2 {
                 for d in 0..c {
-                    let h: f64 = (0..n).map(|i| bu[(i, d)] * w[(i, 0)]).sum();
-                    for i in 0..n {
-                        w[(i, 0)] -= h * u[(i, d)];
-                    }
+                    let h = dot(&done_b[d], &wv);
+                    axpy(-h, &done_u[d], &mut wv);
                 }
             }
-            let bw = b.mul(w.as_ref());
-            let norm = (0..n)
-                .map(|i| w[(i, 0)] * bw[(i, 0)])
-                .sum::<f64>()
-                .max(0.0)
-                .sqrt();
+            let wm = Mat::<f64>::from_fn(n, 1, |i, _| wv[i]);
+            let bw = col_vec(&b.mul(wm.as_ref()), 0);
+            let norm = dot(&wv, &bw).max(0.0).sqrt();
             // What is left of a random vector is round-off once the space is spanned.
             if norm > 1e-8 * w0 {
-                for i in 0..n {
-                    u[(i, c)] = w[(i, 0)] / norm;
-                    bu[(i, c)] = bw[(i, 0)] / norm;
-                }
+                *uc_c = wv.iter().map(|x| x / norm).collect();
+                *bc_c = bw.iter().map(|x| x / norm).collect();
             } else {
                 exhausted = true;
-                for i in 0..n {
-                    u[(i, c)] = 0.0;
-                    bu[(i, c)] = 0.0;
-                }
+                uc_c.iter_mut().for_each(|x| *x = 0.0);
+                bc_c.iter_mut().for_each(|x| *x = 0.0);
             }
-            // r[(c, c)] stays 0: this column carries no Krylov coupling.
         }
+        let u = Mat::<f64>::from_fn(n, p, |i, c| uc[c][i]);
+        let bu = Mat::<f64>::from_fn(n, p, |i, c| bc[c][i]);
         (u, bu, r, exhausted)
     }
 
