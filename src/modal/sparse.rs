@@ -596,6 +596,12 @@ pub fn buckling_factor(k: &SymCsc, kg: &SymCsc) -> Result<Option<f64>, SparseErr
     }
 }
 
+/// An eigenpair (λ, φ).
+pub type Pair = (f64, Vec<f64>);
+
+/// Ritz values θ, their residual norms, and the eigenvectors of the projected matrix.
+type Ritz = (Vec<f64>, Vec<f64>, Mat<f64>);
+
 /// What the sparse eigen-solve did, for reports and benchmarks.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct SparseStats {
@@ -635,7 +641,7 @@ pub fn eigen(
     m: &SymCsc,
     fmax_hz: Option<f64>,
     modes: Option<usize>,
-) -> Result<(Vec<(f64, Vec<f64>)>, SparseStats), SparseError> {
+) -> Result<(Vec<Pair>, SparseStats), SparseError> {
     // The operator forms of faer products (`A * B`) follow the global setting: sequential,
     // as in the dense path, for thread-count-independent results.
     faer::set_global_parallelism(Par::Seq);
@@ -1061,7 +1067,9 @@ fn chol_qr2(u: &Mat<f64>, bu: &Mat<f64>) -> Option<(Mat<f64>, Mat<f64>, Mat<f64>
         let g = Mat::<f64>::from_fn(p, p, |i, j| 0.5 * (g0[(i, j)] + g0[(j, i)]));
         let l = g.llt(Side::Lower).ok()?.L().to_owned();
         for i in 0..p {
-            if !(l[(i, i)] * l[(i, i)] > 1e-10 * g[(i, i)]) {
+            // NaN fails this too.
+            let ok = l[(i, i)] * l[(i, i)] > 1e-10 * g[(i, i)];
+            if !ok {
                 return None;
             }
         }
@@ -1318,7 +1326,7 @@ impl<'x> Lanczos<'x> {
 
     /// Ritz values θ (ascending) of the current T, their residual norms ‖OP·y − θ·y‖_B, and
     /// the eigenvectors of T.
-    fn ritz(&self) -> Result<(Vec<f64>, Vec<f64>, Mat<f64>), SparseError> {
+    fn ritz(&self) -> Result<Ritz, SparseError> {
         let (p, m) = (self.p, self.nb * self.p);
         let t = self.t.as_ref().submatrix(0, 0, m, m).to_owned();
         let (theta, s) = super::dense::sym_eigen_pub(&t)
