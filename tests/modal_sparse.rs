@@ -208,6 +208,10 @@ fn verification_scenes_dense_and_sparse_agree() {
         let d = solve(&scene, SolverChoice::Dense, Some(fmax), None);
         let s = solve(&scene, SolverChoice::Sparse, Some(fmax), None);
         assert!(s.solver.starts_with("sparse"), "{}", s.solver);
+        assert!(d.solver.starts_with("dense"), "{}", d.solver);
+        // Small models stay dense under Auto.
+        let auto = solve(&scene, SolverChoice::Auto, Some(fmax), None);
+        assert!(auto.solver.starts_with("dense"), "{}", auto.solver);
         let stats = s.sparse.as_ref().expect("sparse stats");
         assert_eq!(
             stats.fmax_count,
@@ -236,6 +240,9 @@ fn large_frame_dense_and_sparse_agree_with_sturm_count() {
     // Normwise backward error of every returned pair (sparse module doc: ~tolerance 1e-11).
     assert!(stats.max_backward_error < 1e-10, "{stats:?}");
     let worst = assert_agree(&d, &s, "frame");
+    // Above modal::AUTO_SPARSE_DOFS a bounded request goes sparse by itself.
+    let auto = solve(&scene, SolverChoice::Auto, Some(fmax), None);
+    assert!(auto.solver.starts_with("sparse"), "{}", auto.solver);
     eprintln!(
         "frame: {} DOFs, {} modes below {fmax:.1} Hz, worst rel {worst:e}, {stats:?}",
         s.dofs,

@@ -93,8 +93,14 @@ pub fn run(out: &Path) -> Result<(), Error> {
     for (n, text) in scenes {
         let path = work.join(format!("stack-{n}.toml"));
         satqual::report::write_atomic(&path, text.as_bytes())?;
-        let scene = Scene::load(&path)?;
-        let model = satqual::pipeline::fe_model(&scene)?;
+        let model = match Scene::load(&path).and_then(|sc| satqual::pipeline::fe_model(&sc)) {
+            Ok(m) => m,
+            Err(e) => {
+                eprintln!("stack {n}: {e}");
+                stacks.push(StackRow::failed(n, 0.0, e.to_string()));
+                continue;
+            }
+        };
         reset_peak();
         let t0 = Instant::now();
         let sys = match analyze(
@@ -388,7 +394,7 @@ fn with_satellites(base: &str, n: usize) -> String {
 /// Dense against sparse on generated frame towers of growing size.
 fn crossover() -> Result<Vec<CrossRow>, Error> {
     let mut rows = Vec::new();
-    for levels in [2usize, 4, 6, 9, 12] {
+    for levels in [2usize, 4, 6, 9] {
         let text = frame(4, 3, levels);
         let scene = Scene::parse(Path::new("frame.toml"), &text)?;
         let model = FeModel::from_scene(&scene.model)?;
