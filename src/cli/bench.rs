@@ -19,6 +19,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "fem" => super::bench_fem::run(&args.out).map(|_| Outcome::Pass),
         "modal" => super::bench_modal::run(&args.out).map(|_| Outcome::Pass),
         "separation" => super::bench_separation::run(&args.out),
+        "response" => super::bench_response::run(&args.out).map(|_| Outcome::Pass),
         other => Err(Error::Other(format!("unknown benchmark `{other}`"))),
     }
 }

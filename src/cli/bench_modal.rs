@@ -227,13 +227,16 @@ fn markdown(r: &Report) -> String {
          eigenvalue-error bound, see `modal::sparse`). Model: {}. \
          satqual time: `modal::analyze` end to end (assembly, prestress static solve, buckling, \
          eigen-solve, effective masses); eigsh time: the `eigsh` call alone (its LU included, \
-         reading the files excluded). One run each on this machine ({} cores).\n",
+         reading the files excluded). One run each, wall clock, on this machine ({} cores, shared: \
+         load average {} before and {} after the run).\n",
         r.fmax_hz,
         r.tolerance,
         r.model,
         std::thread::available_parallelism()
             .map(|n| n.get())
-            .unwrap_or(1)
+            .unwrap_or(1),
+        r.load_average[0],
+        r.load_average[1]
     );
     let _ = writeln!(
         s,

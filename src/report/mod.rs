@@ -1,6 +1,10 @@
 //! Report writing: JSON, Markdown, HTML with inline SVG plots, CSV curves. Every file is
 //! written to a temporary name beside its target and renamed, so a reader never sees half a file.
 
+pub mod plot;
+pub mod qualify;
+pub mod svg_plot;
+
 use crate::error::Error;
 use std::path::Path;
 

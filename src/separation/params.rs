@@ -83,6 +83,7 @@ pub struct Model {
     pub base_height_m: f64,
     /// `None`: rigid bars.
     pub bars: Option<ModalBar>,
+
     pub contact: ContactParams,
     /// Four springs per interface, interface-major: index (k − 1)·4 + column.
     pub springs: Vec<SpringParams>,

@@ -6,11 +6,14 @@
 //! dotted key path (`beam[2].orientation`), which [`Locator`] resolves to a line and column
 //! through a span-preserving `toml_edit` parse of the same text.
 
+pub mod analysis;
 pub mod model;
+pub mod qualify;
 pub mod separation;
 pub mod stack;
 
 pub use model::*;
+pub use qualify::{GatesSpec, LogKind, TestLogSpec};
 pub use stack::{InterfaceSpec, StackSpec};
 
 use crate::error::SpecError;
@@ -50,9 +53,30 @@ pub struct SceneFile {
     /// A parametric stack, expanded into the generic model (issue: the preloaded stack).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stack: Option<StackSpec>,
+    /// Pass/fail thresholds of `qualify` (defaults documented in `spec::qualify`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gates: Option<GatesSpec>,
+    /// Measured logs to post-process and gate.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub test_log: Vec<TestLogSpec>,
     /// The in-orbit release (issue 6): springs, schedule, contact; geometry from `[stack]`.
     #[serde(default)]
     pub separation: Option<separation::SeparationSpec>,
+    /// Modal damping of the response analyses (issue 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<analysis::DampingSpec>,
+    /// Sine-sweep base excitation (issue 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sine: Option<analysis::SineSpec>,
+    /// Random base excitation (issue 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub random: Option<analysis::RandomSpec>,
+    /// Named response points (issue 4).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub response: Vec<analysis::ResponsePoint>,
+    /// Lock-integrity margin factors (issue 4); defaults in `analysis::MarginsSpec`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margins: Option<analysis::MarginsSpec>,
 }
 
 /// A loaded and validated scene, with its source kept for error locations and provenance.
@@ -89,6 +113,12 @@ impl Scene {
             None => file.clone(),
         };
         model::validate(&model, &loc)?;
+        qualify::validate(
+            &file.gates.clone().unwrap_or_default(),
+            &file.test_log,
+            &loc,
+        )?;
+        analysis::validate(&file, &model, &loc)?;
         Ok(Scene {
             path: path.to_path_buf(),
             text: text.to_string(),

@@ -199,6 +199,13 @@ pub struct DispersionSpec {
     /// 1σ skew of each electromagnet release time, s (a negative draw is clamped at the unlock).
     #[serde(default)]
     pub release_skew_sigma_s: f64,
+    /// Monte Carlo runs that `qualify` makes (0: none; `satqual separate --monte-carlo N`
+    /// overrides it).
+    #[serde(default)]
+    pub runs: usize,
+    /// Seed of the Monte Carlo (ChaCha); the same seed gives the same percentiles.
+    #[serde(default)]
+    pub seed: u64,
 }
 
 /// Every default of `[separation]`, with its source.

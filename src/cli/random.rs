@@ -1,0 +1,130 @@
+//! `satqual random`: base-driven random-vibration response of a scene's `[random]` profile,
+//! per axis: Grms and 3σ of every response point (with Miles' cross-check), joint and
+//! guide-bar 3σ loads, and the lock-integrity margins.
+
+use super::{Outcome, Printer};
+use satqual::Error;
+use satqual::response::{self, Prepared, RandomOptions};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (TOML) with a [random] section.
+    pub scene: PathBuf,
+    /// Only this axis (x, y or z); default: the scene's `random.axes`.
+    #[arg(long)]
+    pub axis: Option<String>,
+    /// Write CSV curves and SVG plots to this folder.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print the machine-readable result to stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct Output<'a> {
+    scene: String,
+    damping: String,
+    pass: bool,
+    axes: &'a [response::RandomAxis],
+}
+
+pub fn run(args: Args) -> Result<Outcome, Error> {
+    let scene = satqual::spec::Scene::load(&args.scene)?;
+    let spec = scene.file.random.clone().ok_or_else(|| {
+        Error::Other(format!(
+            "{}: the scene has no [random] section (add [random] with a profile)",
+            args.scene.display()
+        ))
+    })?;
+    let axes = super::sine::axes(&args.axis, &spec.axes)?;
+    let (model, sys) = satqual::pipeline::modal(&scene, None, None)?;
+    let prep = Prepared::new(&scene, &model, &sys)?;
+    let mut results = Vec::new();
+    for &a in &axes {
+        results.push(response::random::run(
+            &prep,
+            &spec,
+            a,
+            &RandomOptions::default(),
+        )?);
+    }
+    let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
+    let damping = super::sine::damping_text(&prep.damping, scene.file.damping.is_some());
+    let p = Printer::new(args.json);
+    let mut t = String::new();
+    let _ = writeln!(t, "{}: random, damping {}", args.scene.display(), damping);
+    for r in &results {
+        let _ = writeln!(
+            t,
+            "axis {}: input {:.2} Grms, {} modes + residual vector: {}, {} frequencies",
+            r.axis, r.input_grms, r.modes_used, r.residual_vector, r.frequency_points
+        );
+        for x in &r.responses {
+            let _ = writeln!(
+                t,
+                "  {:<12} {:>8.2} Grms  3σ {:>8.2} g  peak {:.4} g²/Hz at {:.1} Hz  (Miles {:.2} Grms)",
+                x.name, x.grms, x.three_sigma_g, x.peak_psd_g2_hz, x.peak_psd_hz, x.miles_grms
+            );
+        }
+        super::sine::summarize_margins(&mut t, &r.margins);
+    }
+    let _ = write!(
+        t,
+        "lock integrity: {}",
+        if pass {
+            "PASS"
+        } else {
+            "FAIL (a margin is negative)"
+        }
+    );
+    p.human(&t);
+    p.json(&Output {
+        scene: args.scene.display().to_string(),
+        damping,
+        pass,
+        axes: &results,
+    })?;
+    if let Some(dir) = &args.out {
+        for r in &results {
+            let name = format!("random-{}", r.axis);
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}.csv")),
+                r.curves.to_csv("input_g2_hz").as_bytes(),
+            )?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}-interfaces.csv")),
+                r.curves
+                    .csv_of("input_g2_hz", &r.curves.interfaces)
+                    .as_bytes(),
+            )?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}-bars.csv")),
+                r.curves.csv_of("input_g2_hz", &r.curves.bars).as_bytes(),
+            )?;
+            let svg = super::sine::plot(
+                &r.curves,
+                &format!(
+                    "Random, axis {}: response PSD ({:.2} Grms input)",
+                    r.axis, r.input_grms
+                ),
+                "PSD [g²/Hz]",
+                "input profile [g²/Hz]",
+                true,
+            );
+            satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
+        }
+        let json =
+            serde_json::to_string_pretty(&results).map_err(|e| Error::Other(e.to_string()))?;
+        satqual::report::write_atomic(&dir.join("random.json"), json.as_bytes())?;
+        p.human(&format!("curves and plots written to {}", dir.display()));
+    }
+    Ok(if pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
+}

@@ -1,0 +1,253 @@
+//! `satqual sine`: base-driven sine-sweep response of a scene's `[sine]` level, per axis:
+//! response-point peaks, joint loads, guide-bar stresses and the lock-integrity margins.
+
+use super::{Outcome, Printer};
+use satqual::Error;
+use satqual::response::{self, Prepared, SineOptions};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (TOML) with a [sine] section.
+    pub scene: PathBuf,
+    /// Only this axis (x, y or z); default: the scene's `sine.axes`.
+    #[arg(long)]
+    pub axis: Option<String>,
+    /// Write CSV curves and SVG plots to this folder.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print the machine-readable result to stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct Output<'a> {
+    scene: String,
+    damping: String,
+    pass: bool,
+    axes: &'a [response::SineAxis],
+}
+
+/// Axes to run: `--axis` or the scene's list.
+pub fn axes(cli: &Option<String>, scene: &[String]) -> Result<Vec<usize>, Error> {
+    let names: Vec<String> = match cli {
+        Some(a) => vec![a.clone()],
+        None => scene.to_vec(),
+    };
+    names
+        .iter()
+        .map(|a| {
+            satqual::spec::analysis::axis_index(a)
+                .ok_or_else(|| Error::Other(format!("--axis must be x, y or z, got `{a}`")))
+        })
+        .collect()
+}
+
+pub fn damping_text(d: &satqual::spec::analysis::DampingSpec, given: bool) -> String {
+    let base = match (d.q, d.zeta, &d.table) {
+        (Some(q), _, _) => format!("Q = {q} (ζ = {:.4})", 0.5 / q),
+        (_, Some(z), _) => format!("ζ = {z} (Q = {:.2})", 0.5 / z),
+        (_, _, Some(t)) => format!("ζ(f) table of {} points", t.len()),
+        _ => format!(
+            "Q = {} (ζ = {:.3})",
+            satqual::spec::analysis::DEFAULT_Q,
+            0.5 / satqual::spec::analysis::DEFAULT_Q
+        ),
+    };
+    if given {
+        base
+    } else {
+        format!("{base}, default (no [damping] in the scene)")
+    }
+}
+
+pub fn run(args: Args) -> Result<Outcome, Error> {
+    let scene = satqual::spec::Scene::load(&args.scene)?;
+    let spec = scene.file.sine.clone().ok_or_else(|| {
+        Error::Other(format!(
+            "{}: the scene has no [sine] section (add [sine] with [[sine.segment]] levels)",
+            args.scene.display()
+        ))
+    })?;
+    let axes = axes(&args.axis, &spec.axes)?;
+    let (model, sys) = satqual::pipeline::modal(&scene, None, None)?;
+    let prep = Prepared::new(&scene, &model, &sys)?;
+    let mut results = Vec::new();
+    for &a in &axes {
+        results.push(response::sine::run(
+            &prep,
+            &spec,
+            a,
+            &SineOptions::default(),
+        )?);
+    }
+    let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
+    let p = Printer::new(args.json);
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{}: sine {:.1}–{:.1} Hz, damping {}",
+        args.scene.display(),
+        spec.band().0,
+        spec.band().1,
+        damping_text(&prep.damping, scene.file.damping.is_some())
+    );
+    for r in &results {
+        let _ = writeln!(
+            t,
+            "axis {}: {} modes + residual vector: {}, {} frequencies",
+            r.axis, r.modes_used, r.residual_vector, r.frequency_points
+        );
+        for pk in &r.peaks {
+            let _ = writeln!(
+                t,
+                "  {:<12} peak {:>9.3} g at {:>8.2} Hz (x{:.2} the input)",
+                pk.name, pk.acceleration_g, pk.frequency_hz, pk.transmissibility
+            );
+        }
+        if let Some(i) = r
+            .interfaces
+            .iter()
+            .max_by(|a, b| a.max_tension_n.total_cmp(&b.max_tension_n))
+        {
+            let _ = writeln!(
+                t,
+                "  worst joint tension {:.0} N ({}), shear {:.0} N",
+                i.max_tension_n, i.name, i.max_shear_n
+            );
+        }
+        if let Some(s) = r
+            .bar_stations
+            .iter()
+            .max_by(|a, b| a.max_stress_pa.total_cmp(&b.max_stress_pa))
+        {
+            let _ = writeln!(
+                t,
+                "  worst guide-bar dynamic stress {:.1} MPa ({} at {:.2} Hz)",
+                s.max_stress_pa / 1e6,
+                s.name,
+                s.frequency_hz
+            );
+        }
+        summarize_margins(&mut t, &r.margins);
+    }
+    let _ = write!(
+        t,
+        "lock integrity: {}",
+        if pass {
+            "PASS"
+        } else {
+            "FAIL (a margin is negative)"
+        }
+    );
+    p.human(&t);
+    p.json(&Output {
+        scene: args.scene.display().to_string(),
+        damping: damping_text(&prep.damping, scene.file.damping.is_some()),
+        pass,
+        axes: &results,
+    })?;
+    if let Some(dir) = &args.out {
+        for r in &results {
+            let name = format!("sine-{}", r.axis);
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}.csv")),
+                r.curves.to_csv("input_g").as_bytes(),
+            )?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}-interfaces.csv")),
+                r.curves.csv_of("input_g", &r.curves.interfaces).as_bytes(),
+            )?;
+            satqual::report::write_atomic(
+                &dir.join(format!("{name}-bars.csv")),
+                r.curves.csv_of("input_g", &r.curves.bars).as_bytes(),
+            )?;
+            let svg = plot(
+                &r.curves,
+                &format!("Sine, axis {}: absolute acceleration", r.axis),
+                "acceleration amplitude [g]",
+                "input [g]",
+                false,
+            );
+            satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
+        }
+        let json =
+            serde_json::to_string_pretty(&results).map_err(|e| Error::Other(e.to_string()))?;
+        satqual::report::write_atomic(&dir.join("sine.json"), json.as_bytes())?;
+        p.human(&format!("curves and plots written to {}", dir.display()));
+    }
+    Ok(if pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
+}
+
+/// The worst margin of each kind.
+pub fn summarize_margins(t: &mut String, ms: &[response::Margin]) {
+    let mut kinds: Vec<&str> = ms.iter().map(|m| m.kind.as_str()).collect();
+    kinds.dedup();
+    kinds.sort();
+    kinds.dedup();
+    for k in kinds {
+        if let Some(m) = ms
+            .iter()
+            .filter(|m| m.kind == k)
+            .min_by(|a, b| a.margin.total_cmp(&b.margin))
+        {
+            let _ = writeln!(
+                t,
+                "  min MS {:<12} {:>+9.2} ({}: {:.4e} vs allowable {:.4e}) {}",
+                k,
+                m.margin,
+                m.name,
+                m.value,
+                m.limit,
+                if m.pass { "pass" } else { "FAIL" }
+            );
+        }
+    }
+}
+
+/// The response-point curves of an analysis, with the input dashed.
+pub fn plot(
+    c: &response::Curves,
+    title: &str,
+    y_label: &str,
+    input_name: &str,
+    log_y: bool,
+) -> String {
+    use satqual::report::svg_plot::{Plot, Series, render};
+    let mut series = vec![Series {
+        name: input_name,
+        x: &c.frequency_hz,
+        y: &c.input,
+        dashed: true,
+    }];
+    for (n, v) in c
+        .series
+        .iter()
+        .filter(|(n, _)| n.ends_with("[g]") || n.ends_with("[g2/Hz]"))
+        .take(7)
+    {
+        series.push(Series {
+            name: n,
+            x: &c.frequency_hz,
+            y: v,
+            dashed: false,
+        });
+    }
+    render(
+        &Plot {
+            title,
+            x_label: "frequency [Hz]",
+            y_label,
+            log_x: true,
+            log_y,
+        },
+        &series,
+    )
+}

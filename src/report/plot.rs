@@ -1,0 +1,171 @@
+//! Small SVG line plots for reports (plotters, SVG backend, no system fonts: text goes out as
+//! SVG `<text>` elements that the viewer renders). Generic: any module can hand over its
+//! series; the signal reports use `loglog_svg` for PSDs and `lines_svg` for |H| and coherence.
+
+use crate::error::Error;
+use plotters::prelude::*;
+
+/// One curve: label for the legend and (x, y) points.
+pub struct Series<'a> {
+    pub label: String,
+    pub points: &'a [(f64, f64)],
+}
+
+/// Axis scaling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scale {
+    Linear,
+    Log,
+}
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+fn plot_err(e: impl std::fmt::Display) -> Error {
+    Error::Other(format!("plot: {e}"))
+}
+
+/// Range of the points usable on the given scale (positive only on a log scale), padded.
+fn range(series: &[Series], pick: impl Fn(&(f64, f64)) -> f64, scale: Scale) -> (f64, f64) {
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for s in series {
+        for p in s.points {
+            let v = pick(p);
+            if v.is_finite() && (scale == Scale::Linear || v > 0.0) {
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        }
+    }
+    if !lo.is_finite() {
+        return if scale == Scale::Log {
+            (1e-3, 1.0)
+        } else {
+            (0.0, 1.0)
+        };
+    }
+    match scale {
+        Scale::Log => {
+            let (l, h) = (lo.log10().floor(), hi.log10().ceil());
+            let h = if h <= l { l + 1.0 } else { h };
+            (10f64.powf(l), 10f64.powf(h))
+        }
+        Scale::Linear => {
+            if hi <= lo {
+                (lo - 1.0, hi + 1.0)
+            } else {
+                let pad = 0.05 * (hi - lo);
+                (lo - pad, hi + pad)
+            }
+        }
+    }
+}
+
+/// A line plot with the chosen axis scales; returns the SVG document.
+pub fn lines_svg(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    x_scale: Scale,
+    y_scale: Scale,
+) -> Result<String, Error> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let (x0, x1) = range(series, |p| p.0, x_scale);
+        let (y0, y1) = range(series, |p| p.1, y_scale);
+        let mut builder = ChartBuilder::on(&root);
+        builder
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(80);
+        let keep = |p: &&(f64, f64)| {
+            p.0.is_finite()
+                && p.1.is_finite()
+                && (x_scale == Scale::Linear || p.0 > 0.0)
+                && (y_scale == Scale::Linear || p.1 > 0.0)
+        };
+        macro_rules! draw {
+            ($chart:expr) => {{
+                let mut chart = $chart;
+                chart
+                    .configure_mesh()
+                    .x_desc(x_label)
+                    .y_desc(y_label)
+                    .y_label_formatter(&|v| format!("{v:.3e}"))
+                    .draw()
+                    .map_err(plot_err)?;
+                for (i, s) in series.iter().enumerate() {
+                    let c = COLORS[i % COLORS.len()];
+                    chart
+                        .draw_series(LineSeries::new(
+                            s.points.iter().filter(keep).copied(),
+                            c.stroke_width(1),
+                        ))
+                        .map_err(plot_err)?
+                        .label(s.label.clone())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                        });
+                }
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .position(SeriesLabelPosition::UpperRight)
+                    .draw()
+                    .map_err(plot_err)?;
+            }};
+        }
+        match (x_scale, y_scale) {
+            (Scale::Log, Scale::Log) => {
+                draw!(
+                    builder
+                        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                        .map_err(plot_err)?
+                )
+            }
+            (Scale::Log, Scale::Linear) => {
+                draw!(
+                    builder
+                        .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                        .map_err(plot_err)?
+                )
+            }
+            (Scale::Linear, Scale::Log) => {
+                draw!(
+                    builder
+                        .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                        .map_err(plot_err)?
+                )
+            }
+            (Scale::Linear, Scale::Linear) => draw!(
+                builder
+                    .build_cartesian_2d(x0..x1, y0..y1)
+                    .map_err(plot_err)?
+            ),
+        }
+        root.present().map_err(plot_err)?;
+    }
+    Ok(svg)
+}
+
+/// Log-log line plot (PSDs: put the Grms in each series label).
+pub fn loglog_svg(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+) -> Result<String, Error> {
+    lines_svg(title, x_label, y_label, series, Scale::Log, Scale::Log)
+}

@@ -1,0 +1,466 @@
+//! The response-analysis sections of a scene: `[damping]`, `[sine]` with `[[sine.segment]]`,
+//! `[random]`, `[[response]]` output points and `[margins]` (the lock-integrity factors).
+//! Owned by the response issue (issue 4); read by `response` (sine, random, load recovery,
+//! margins) and later by `gates`/`pipeline`.
+//!
+//! Every default of the lock-integrity margins lives in [`MarginsSpec::default`], with its
+//! source; nowhere else in the code is a factor of safety written down.
+
+use super::Locator;
+use crate::error::SpecError;
+use serde::{Deserialize, Serialize};
+
+/// Modal damping. Exactly one of `q`, `zeta` or `table`; absent section = [`DEFAULT_Q`].
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    /// Amplification Q = 1/(2ζ) of every mode.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub q: Option<f64>,
+    /// Critical-damping ratio ζ of every mode.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub zeta: Option<f64>,
+    /// `[[f_hz, zeta], ...]`, increasing f; linear interpolation in f, constant beyond the ends.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<Vec<[f64; 2]>>,
+}
+
+/// Default amplification when a scene asks for a response but gives no `[damping]`: Q = 10
+/// (ζ = 5 %), the customary preliminary value for bolted spacecraft structure (ECSS-E-HB-32-26A
+/// §4.2.4; NASA-HDBK-7005 §4.5 quotes Q = 10 as the typical design assumption).
+pub const DEFAULT_Q: f64 = 10.0;
+
+impl DampingSpec {
+    /// ζ at frequency `f_hz`.
+    pub fn zeta_at(&self, f_hz: f64) -> f64 {
+        if let Some(z) = self.zeta {
+            return z;
+        }
+        if let Some(q) = self.q {
+            return 0.5 / q;
+        }
+        if let Some(t) = &self.table
+            && !t.is_empty()
+        {
+            if f_hz <= t[0][0] {
+                return t[0][1];
+            }
+            for w in t.windows(2) {
+                if f_hz <= w[1][0] {
+                    let s = (f_hz - w[0][0]) / (w[1][0] - w[0][0]);
+                    return w[0][1] + s * (w[1][1] - w[0][1]);
+                }
+            }
+            return t[t.len() - 1][1];
+        }
+        0.5 / DEFAULT_Q
+    }
+}
+
+/// One segment of a sine-sweep level: a zero-to-peak base displacement (a = (2πf)²·d) or a
+/// base acceleration, from `from_hz` to `to_hz`.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SineSegment {
+    pub from_hz: f64,
+    pub to_hz: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub acceleration_g: Option<f64>,
+}
+
+impl SineSegment {
+    /// Base acceleration amplitude at `f_hz`, g.
+    pub fn level_g(&self, f_hz: f64) -> f64 {
+        match (self.displacement_m, self.acceleration_g) {
+            (Some(d), _) => (2.0 * std::f64::consts::PI * f_hz).powi(2) * d / crate::units::G,
+            (None, Some(a)) => a,
+            (None, None) => 0.0,
+        }
+    }
+}
+
+/// `[sine]`: the sweep level, contiguous segments, applied along each axis in turn.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SineSpec {
+    #[serde(default = "all_axes")]
+    pub axes: Vec<String>,
+    #[serde(default)]
+    pub segment: Vec<SineSegment>,
+}
+
+impl SineSpec {
+    /// Base acceleration amplitude at `f_hz` (g); 0 outside the profile.
+    pub fn level_g(&self, f_hz: f64) -> f64 {
+        let n = self.segment.len();
+        for (i, s) in self.segment.iter().enumerate() {
+            // Half-open segments, the last one closed: a shared boundary belongs to the
+            // segment that starts there.
+            if f_hz >= s.from_hz && (f_hz < s.to_hz || (i + 1 == n && f_hz <= s.to_hz)) {
+                return s.level_g(f_hz);
+            }
+        }
+        0.0
+    }
+    pub fn band(&self) -> (f64, f64) {
+        (
+            self.segment.first().map(|s| s.from_hz).unwrap_or(0.0),
+            self.segment.last().map(|s| s.to_hz).unwrap_or(0.0),
+        )
+    }
+}
+
+/// `[random]`: a base-acceleration PSD, log-log between its points, applied along each axis.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RandomSpec {
+    #[serde(default = "all_axes")]
+    pub axes: Vec<String>,
+    /// `[[f_hz, g2_hz], ...]`.
+    pub profile: Vec<[f64; 2]>,
+    /// Test duration, s (reported; the 3σ figures do not depend on it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
+}
+
+impl RandomSpec {
+    pub fn table(&self) -> Vec<(f64, f64)> {
+        self.profile.iter().map(|p| (p[0], p[1])).collect()
+    }
+}
+
+/// A named output point: absolute acceleration of a node along the excitation axis.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ResponsePoint {
+    pub name: String,
+    pub node: i64,
+}
+
+fn all_axes() -> Vec<String> {
+    vec!["x".into(), "y".into(), "z".into()]
+}
+
+/// `[margins]`: factors of the lock-integrity margins. Every default is here, with its source.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct MarginsSpec {
+    /// Fitting factor on joint loads. NASA-STD-5020B §4.3 (1.15 for a separation/gapping check
+    /// of a joint without a fitting-factor test).
+    pub fitting_factor: f64,
+    /// Factor of safety against separation (gapping). NASA-STD-5020B Table 1 (1.2 for a
+    /// separation-critical joint, tested).
+    pub separation_factor: f64,
+    /// Friction coefficient of the preloaded column faces. NASA-STD-5020B §4.4.2 (0.2 for
+    /// uncoated metal faces when no test data exist).
+    pub friction_coefficient: f64,
+    /// Factor of safety against slip. NASA-STD-5020B §4.4.2 (1.0: slip is checked at limit
+    /// load for joints whose strength does not rely on friction).
+    pub slip_factor: f64,
+    /// Preload uncertainty, ± fraction of nominal. NASA-STD-5020B §4.2 (a torque-controlled
+    /// preload has ±25–35 %; ±10 % for a compression device with a load-measured preload, as
+    /// the paper's 45 kN is; ASSUMPTION that it was measured).
+    pub preload_uncertainty: f64,
+    /// Preload loss allowance (creep, relaxation, embedding), fraction of nominal.
+    /// NASA-STD-5020B §4.2 (5 % short-term relaxation allowance when no test data exist).
+    pub preload_loss: f64,
+    /// Yield factor of safety for the guide bars. GSFC-STD-7000A Table 2.2-1 / NASA-STD-5001B
+    /// Table 1 (1.25 for a qualification-tested metallic part).
+    pub yield_factor: f64,
+    /// Ultimate factor of safety for the guide bars. NASA-STD-5001B Table 1 (1.4).
+    pub ultimate_factor: f64,
+    /// Add the joint's bending moment to the gapping load as M·A/Z of the column-tube face
+    /// (the moment that lifts the face edge). Off by default: the issue's criterion uses the
+    /// axial tension, and the real contact face (flanges) is not in the scene, so the tube
+    /// section would overstate the edge lift.
+    pub include_face_moment: bool,
+}
+
+impl Default for MarginsSpec {
+    fn default() -> Self {
+        MarginsSpec {
+            fitting_factor: 1.15,
+            separation_factor: 1.2,
+            friction_coefficient: 0.2,
+            slip_factor: 1.0,
+            preload_uncertainty: 0.10,
+            preload_loss: 0.05,
+            yield_factor: 1.25,
+            ultimate_factor: 1.4,
+            include_face_moment: false,
+        }
+    }
+}
+
+impl MarginsSpec {
+    /// Lowest preload the joint may see: nominal·(1 − uncertainty)·(1 − loss).
+    pub fn min_preload(&self, nominal: f64) -> f64 {
+        nominal * (1.0 - self.preload_uncertainty) * (1.0 - self.preload_loss)
+    }
+    /// Highest preload (for the strength of the tension members): nominal·(1 + uncertainty).
+    pub fn max_preload(&self, nominal: f64) -> f64 {
+        nominal * (1.0 + self.preload_uncertainty)
+    }
+}
+
+/// Axis name -> DOF index (0, 1, 2).
+pub fn axis_index(a: &str) -> Option<usize> {
+    match a {
+        "x" => Some(0),
+        "y" => Some(1),
+        "z" => Some(2),
+        _ => None,
+    }
+}
+
+/// Checks the response sections. `model` is the expanded generic model (for node references).
+pub fn validate(
+    file: &super::SceneFile,
+    model: &super::SceneFile,
+    loc: &Locator,
+) -> Result<(), SpecError> {
+    if let Some(d) = &file.damping {
+        let given = [d.q.is_some(), d.zeta.is_some(), d.table.is_some()]
+            .iter()
+            .filter(|&&b| b)
+            .count();
+        if given != 1 {
+            return Err(loc.err("damping", "give exactly one of `q`, `zeta` or `table`"));
+        }
+        if let Some(q) = d.q
+            && q <= 0.5
+        {
+            return Err(loc.err(
+                "damping.q",
+                format!("the amplification Q must be above 0.5 (ζ < 1), got {q}"),
+            ));
+        }
+        if let Some(z) = d.zeta
+            && (z <= 0.0 || z >= 1.0)
+        {
+            return Err(loc.err(
+                "damping.zeta",
+                format!("the damping ratio must lie in (0, 1), got {z}"),
+            ));
+        }
+        if let Some(t) = &d.table {
+            if t.is_empty() {
+                return Err(loc.err("damping.table", "the table is empty"));
+            }
+            for (i, p) in t.iter().enumerate() {
+                let k = format!("damping.table[{i}]");
+                if p[1] <= 0.0 || p[1] >= 1.0 {
+                    return Err(loc.err(
+                        &k,
+                        format!("the damping ratio must lie in (0, 1), got {}", p[1]),
+                    ));
+                }
+                if p[0] < 0.0 {
+                    return Err(loc.err(&k, format!("negative frequency {} Hz", p[0])));
+                }
+                if i > 0 && p[0] <= t[i - 1][0] {
+                    return Err(loc.err(
+                        &k,
+                        format!(
+                            "frequencies must increase: {} Hz follows {} Hz",
+                            p[0],
+                            t[i - 1][0]
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    let check_axes = |key: &str, axes: &[String]| -> Result<(), SpecError> {
+        if axes.is_empty() {
+            return Err(loc.err(key, "name at least one axis (x, y or z)"));
+        }
+        for (i, a) in axes.iter().enumerate() {
+            if axis_index(a).is_none() {
+                return Err(loc.err(
+                    &format!("{key}[{i}]"),
+                    format!("unknown axis `{a}`: use x, y or z"),
+                ));
+            }
+        }
+        Ok(())
+    };
+    if let Some(s) = &file.sine {
+        check_axes("sine.axes", &s.axes)?;
+        if s.segment.is_empty() {
+            return Err(loc.err("sine", "the sine level needs at least one [[sine.segment]]"));
+        }
+        for (i, g) in s.segment.iter().enumerate() {
+            let k = |x: &str| format!("sine.segment[{i}].{x}");
+            if g.from_hz <= 0.0 {
+                return Err(loc.err(
+                    &k("from_hz"),
+                    format!("must be a positive frequency, got {}", g.from_hz),
+                ));
+            }
+            if g.to_hz <= g.from_hz {
+                return Err(loc.err(
+                    &k("to_hz"),
+                    format!(
+                        "the segment must run to a higher frequency: {} Hz to {} Hz",
+                        g.from_hz, g.to_hz
+                    ),
+                ));
+            }
+            match (g.displacement_m, g.acceleration_g) {
+                (Some(_), Some(_)) | (None, None) => {
+                    return Err(loc.err(
+                        &format!("sine.segment[{i}]"),
+                        "give exactly one of `displacement_m` or `acceleration_g`",
+                    ));
+                }
+                (Some(d), None) if d <= 0.0 => {
+                    return Err(loc.err(
+                        &k("displacement_m"),
+                        format!("the level must be positive, got {d}"),
+                    ));
+                }
+                (None, Some(a)) if a <= 0.0 => {
+                    return Err(loc.err(
+                        &k("acceleration_g"),
+                        format!("the level must be positive, got {a}"),
+                    ));
+                }
+                _ => {}
+            }
+            if i > 0 {
+                let prev = s.segment[i - 1].to_hz;
+                let rel = (g.from_hz - prev).abs() / prev;
+                if rel > 1e-9 {
+                    let what = if g.from_hz > prev {
+                        "a gap"
+                    } else {
+                        "an overlap"
+                    };
+                    return Err(loc.err(
+                        &k("from_hz"),
+                        format!(
+                            "{what} between segments: segment {} ends at {prev} Hz but this one starts at {} Hz; segments must be contiguous",
+                            i - 1,
+                            g.from_hz
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    if let Some(r) = &file.random {
+        check_axes("random.axes", &r.axes)?;
+        if r.profile.len() < 2 {
+            return Err(loc.err("random.profile", "the profile needs at least two points"));
+        }
+        for (i, p) in r.profile.iter().enumerate() {
+            let k = format!("random.profile[{i}]");
+            if p[0] <= 0.0 {
+                return Err(loc.err(&k, format!("frequencies must be positive, got {} Hz", p[0])));
+            }
+            if p[1] <= 0.0 {
+                return Err(loc.err(
+                    &k,
+                    format!(
+                        "the PSD level must be positive (log-log interpolation), got {} g²/Hz",
+                        p[1]
+                    ),
+                ));
+            }
+            if i > 0 && p[0] <= r.profile[i - 1][0] {
+                return Err(loc.err(
+                    &k,
+                    format!(
+                        "profile frequencies must increase: {} Hz follows {} Hz",
+                        p[0],
+                        r.profile[i - 1][0]
+                    ),
+                ));
+            }
+        }
+        if let Some(d) = r.duration_s
+            && d <= 0.0
+        {
+            return Err(loc.err("random.duration_s", format!("must be positive, got {d}")));
+        }
+    }
+    let mut names = std::collections::HashSet::new();
+    for (i, p) in file.response.iter().enumerate() {
+        if !model.node.iter().any(|n| n.id == p.node) {
+            return Err(loc.err(
+                &format!("response[{i}].node"),
+                format!(
+                    "response point `{}` names node {}, which is not defined",
+                    p.name, p.node
+                ),
+            ));
+        }
+        if !names.insert(p.name.as_str()) {
+            return Err(loc.err(
+                &format!("response[{i}].name"),
+                format!("duplicate response point name `{}`", p.name),
+            ));
+        }
+    }
+    if let Some(m) = &file.margins {
+        for (key, v, lo) in [
+            ("fitting_factor", m.fitting_factor, 1.0),
+            ("separation_factor", m.separation_factor, 1.0),
+            ("slip_factor", m.slip_factor, 1.0),
+            ("yield_factor", m.yield_factor, 1.0),
+            ("ultimate_factor", m.ultimate_factor, 1.0),
+        ] {
+            if v < lo {
+                return Err(loc.err(
+                    &format!("margins.{key}"),
+                    format!("a factor of safety must be at least {lo}, got {v}"),
+                ));
+            }
+        }
+        if m.friction_coefficient <= 0.0 {
+            return Err(loc.err(
+                "margins.friction_coefficient",
+                format!("must be positive, got {}", m.friction_coefficient),
+            ));
+        }
+        for (key, v) in [
+            ("preload_uncertainty", m.preload_uncertainty),
+            ("preload_loss", m.preload_loss),
+        ] {
+            if !(0.0..1.0).contains(&v) {
+                return Err(loc.err(
+                    &format!("margins.{key}"),
+                    format!("a fraction in [0, 1) is expected, got {v}"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The response points of a scene: for a `[stack]`, one per satellite CG (`sat i`, node
+/// 1000·i) and `top` (the top of satellite 1's column 1, node 1013, where the compression
+/// device sits), followed by the scene's own `[[response]]` points. A generic scene without
+/// `[[response]]` gets none (its interfaces and members are still recovered).
+pub fn response_points(scene: &super::Scene) -> Vec<ResponsePoint> {
+    let mut out = Vec::new();
+    if let Some(st) = &scene.file.stack {
+        for i in 1..=st.satellites {
+            out.push(ResponsePoint {
+                name: format!("sat {i}"),
+                node: super::stack::ids::satellite(i),
+            });
+        }
+        out.push(ResponsePoint {
+            name: "top".into(),
+            node: super::stack::ids::column(1, 1, 3),
+        });
+    }
+    // A scene point with a default's name replaces that default.
+    out.retain(|d| !scene.file.response.iter().any(|p| p.name == d.name));
+    out.extend(scene.file.response.iter().cloned());
+    out
+}

@@ -1,0 +1,133 @@
+//! `satqual sine` / `satqual random` contract (issue 4): JSON fields, exit codes, CSV and SVG
+//! output, and identical JSON whatever the thread count.
+
+use std::process::Command;
+
+fn satqual(args: &[&str], threads: Option<&str>) -> std::process::Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_satqual"));
+    c.args(args);
+    if let Some(t) = threads {
+        c.env("RAYON_NUM_THREADS", t);
+    }
+    c.output().expect("run satqual")
+}
+
+#[test]
+fn sine_json_contract_and_out_dir() {
+    let dir = std::env::temp_dir().join(format!("satqual-sine-{}", std::process::id()));
+    let out = satqual(
+        &[
+            "sine",
+            "test-specs/shaker-2sat.toml",
+            "--axis",
+            "z",
+            "--json",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        None,
+    );
+    let code = out.status.code();
+    assert!(
+        code == Some(0) || code == Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("stdout is JSON");
+    let axes = v["axes"].as_array().unwrap();
+    assert_eq!(axes.len(), 1);
+    assert_eq!(axes[0]["axis"], "z");
+    let peaks = axes[0]["peaks"].as_array().unwrap();
+    // Stack defaults: sat 1, sat 2, top.
+    let names: Vec<&str> = peaks.iter().map(|p| p["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["sat 1", "sat 2", "top"]);
+    for p in peaks {
+        assert!(p["frequency_hz"].as_f64().unwrap() > 5.0);
+        assert!(p["acceleration_g"].as_f64().unwrap() > 0.3);
+    }
+    let ifs = axes[0]["interfaces"].as_array().unwrap();
+    assert_eq!(ifs.len(), 8, "2 satellites × 4 column joints");
+    for i in ifs {
+        assert!(i["name"].as_str().unwrap().starts_with("interface "));
+        assert!(i["max_tension_n"].as_f64().unwrap() > 0.0);
+        assert!(i["max_shear_n"].is_number());
+    }
+    let ms = axes[0]["margins"].as_array().unwrap();
+    assert!(ms.iter().any(|m| m["kind"] == "gapping"));
+    assert!(ms.iter().any(|m| m["kind"] == "bar yield"));
+    let pass = ms.iter().all(|m| m["pass"].as_bool().unwrap());
+    assert_eq!(v["pass"].as_bool().unwrap(), pass);
+    assert_eq!(
+        code,
+        Some(if pass { 0 } else { 1 }),
+        "exit code follows the margins"
+    );
+    // The human summary went to stderr.
+    assert!(String::from_utf8_lossy(&out.stderr).contains("lock integrity"));
+    let csv = std::fs::read_to_string(dir.join("sine-z.csv")).unwrap();
+    assert!(csv.starts_with("frequency_hz,input_g,\"sat 1 [g]\""));
+    let svg = std::fs::read_to_string(dir.join("sine-z.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("polyline"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn random_json_contract_and_out_dir() {
+    let dir = std::env::temp_dir().join(format!("satqual-random-{}", std::process::id()));
+    let out = satqual(
+        &[
+            "random",
+            "test-specs/verification/sdof-base.toml",
+            "--json",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let a = &v["axes"][0];
+    assert_eq!(a["axis"], "x");
+    // Flat 0.1 g²/Hz over 20–2000 Hz: 14.07 Grms.
+    assert!((a["input_grms"].as_f64().unwrap() - (0.1f64 * 1980.0).sqrt()).abs() < 1e-9);
+    let r = &a["responses"][0];
+    assert_eq!(r["name"], "mass");
+    let g = r["grms"].as_f64().unwrap();
+    assert!((r["three_sigma_g"].as_f64().unwrap() - 3.0 * g).abs() < 1e-12);
+    assert!((r["peak_psd_hz"].as_f64().unwrap() - 100.0).abs() < 1.0);
+    assert!(r["peak_psd_g2_hz"].as_f64().unwrap() > 10.0);
+    assert!(r["miles_grms"].as_f64().unwrap() > 0.0);
+    assert_eq!(r["miles"][0]["mode"], 1);
+    let csv = std::fs::read_to_string(dir.join("random-x.csv")).unwrap();
+    assert!(csv.starts_with("frequency_hz,input_g2_hz,\"mass [g2/Hz]\""));
+    let svg = std::fs::read_to_string(dir.join("random-x.svg")).unwrap();
+    assert!(
+        svg.contains("input profile"),
+        "the input is drawn on the random plot"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn json_is_identical_whatever_the_thread_count() {
+    for cmd in ["sine", "random"] {
+        let a = satqual(
+            &[cmd, "test-specs/shaker-2sat.toml", "--axis", "x", "--json"],
+            Some("1"),
+        );
+        let b = satqual(
+            &[cmd, "test-specs/shaker-2sat.toml", "--axis", "x", "--json"],
+            Some("2"),
+        );
+        assert!(!a.stdout.is_empty());
+        assert_eq!(
+            a.stdout, b.stdout,
+            "{cmd}: JSON depends on the thread count"
+        );
+    }
+}
