@@ -92,7 +92,7 @@ pub const BLOCK: usize = 8;
 /// the n·m² re-orthogonalisation cheap against a factorization (measured on the stack).
 pub const SLICE_MODES: usize = 48;
 /// Restarts of one slice: each one locks what converged and aims at the missing eigenvalues
-/// (a cluster of 4·N repeated column modes needs about 4·N/48 of them).
+/// (a cluster of 4·N repeated column modes needs about 4·N/40 of them).
 pub const MAX_RESTARTS: usize = 64;
 /// Largest Lanczos basis of one run.
 pub const MAX_BASIS: usize = 200;
@@ -1034,7 +1034,8 @@ fn run_slice(
             in_slice.extend(got);
             let need = edge.map(|e| e.1).unwrap_or(c_s) - c_a;
             let missing = need.saturating_sub(count_below(&in_slice, upper));
-            block = (missing + 2).clamp(BLOCK, 6 * BLOCK);
+            // At most a fifth of the basis, so that a run still takes five block steps.
+            block = (missing + 2).clamp(BLOCK, (MAX_BASIS / 5).max(BLOCK));
             let next = match target {
                 Some(l) => Some(factor_away_from_eigenvalue(
                     pencil,
