@@ -16,12 +16,12 @@ use serde::Serialize;
 
 /// Reduced DOFs above which `SolverChoice::Auto` uses the sparse solver (when the scene bounds
 /// the modes with `fmax_hz` or `modes`). Measured with `satqual bench modal` on the 2-core
-/// development machine: the dense cost is fixed by n (all modes, O(n³): 0.04 s at 500 DOFs,
-/// 2.4 s at 2200), the sparse one grows with the modes in the band. For a narrow band (a tenth
-/// of the modes) sparse wins from a few hundred DOFs; for the stack at 2 kHz, where ~45% of all
-/// modes are in the band, dense wins at 692 DOFs (0.13 s against 0.29 s) and sparse at 2120
-/// (1.0 s against 4.4 s). 1500 lies between, and keeps the verification scenes and the
-/// 6-satellite paper stack on the dense path.
+/// development machine (reports/bench/modal.md): the dense cost is fixed by n (all modes,
+/// O(n³): 0.03 s at 500 DOFs, 1.9 s at 2200), the sparse one grows with the modes in the band.
+/// For a narrow band (a tenth of the modes) sparse wins from a few hundred DOFs; for the stack
+/// at 2 kHz, where ~45% of all modes are in the band, dense wins at 692 DOFs (0.12 s against
+/// 0.14 s) and sparse at 2120 (0.9 s against 2.7 s). 1500 lies between, and keeps the
+/// verification scenes and the 6-satellite paper stack on the dense path.
 pub const AUTO_SPARSE_DOFS: usize = 1500;
 
 /// What to extract.
