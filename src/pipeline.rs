@@ -15,8 +15,21 @@ pub fn modal(
     fmax_hz: Option<f64>,
     modes: Option<usize>,
 ) -> Result<(FeModel, ModalSystem), Error> {
+    modal_with_solver(scene, fmax_hz, modes, None)
+}
+
+/// [`modal`] with a solver override (`--solver`) that takes precedence over `[modal] solver`.
+pub fn modal_with_solver(
+    scene: &Scene,
+    fmax_hz: Option<f64>,
+    modes: Option<usize>,
+    solver: Option<crate::spec::SolverChoice>,
+) -> Result<(FeModel, ModalSystem), Error> {
     let model = FeModel::from_scene(&scene.model).map_err(|e| locate(scene, e))?;
-    let spec = scene.file.modal.clone().unwrap_or_default();
+    let mut spec = scene.file.modal.clone().unwrap_or_default();
+    if let Some(s) = solver {
+        spec.solver = s;
+    }
     let opts = match (fmax_hz, modes) {
         (None, None) => ModalOptions {
             fmax_hz: spec.fmax_hz,
@@ -51,6 +64,11 @@ pub fn modal(
                     .into());
     }
     Ok((model, sys))
+}
+
+/// The FE model of a scene, with FE errors located in the scene.
+pub fn fe_model(scene: &Scene) -> Result<FeModel, Error> {
+    FeModel::from_scene(&scene.model).map_err(|e| locate(scene, e))
 }
 
 /// Attaches the scene location of the node an FE error names, when it is a scene node.

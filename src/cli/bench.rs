@@ -17,6 +17,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<Outcome, Error> {
     match args.what.as_str() {
         "fem" => super::bench_fem::run(&args.out).map(|_| Outcome::Pass),
+        "modal" => super::bench_modal::run(&args.out).map(|_| Outcome::Pass),
         "separation" => super::bench_separation::run(&args.out),
         "response" => super::bench_response::run(&args.out).map(|_| Outcome::Pass),
         "psd" => super::bench_psd::run(&args.out),

@@ -8,6 +8,7 @@ use std::io::Write;
 
 mod bench;
 mod bench_fem;
+mod bench_modal;
 mod bench_psd;
 mod bench_response;
 mod bench_separation;

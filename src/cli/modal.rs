@@ -1,5 +1,6 @@
 //! `satqual modal`: natural frequencies, effective masses and, when the scene has static
-//! loads, the prestress and buckling factor. Optional export of K, M, K_G and the DOF map.
+//! loads, the prestress and buckling factor. Optional export of K, M, K_G, K + K_G and the DOF
+//! map.
 
 use super::{Outcome, Printer};
 use satqual::Error;
@@ -20,9 +21,30 @@ pub struct Args {
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
+    /// Eigen-solver: auto (dense up to a size threshold, sparse above), dense or sparse
+    /// (overrides `[modal] solver`).
+    #[arg(long, value_enum)]
+    pub solver: Option<Solver>,
     /// Write K, M, K_G (Matrix Market, reduced DOFs) and the DOF map (CSV) to this folder.
     #[arg(long)]
     pub export_matrices: Option<PathBuf>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum Solver {
+    Auto,
+    Dense,
+    Sparse,
+}
+
+impl From<Solver> for satqual::spec::SolverChoice {
+    fn from(s: Solver) -> Self {
+        match s {
+            Solver::Auto => satqual::spec::SolverChoice::Auto,
+            Solver::Dense => satqual::spec::SolverChoice::Dense,
+            Solver::Sparse => satqual::spec::SolverChoice::Sparse,
+        }
+    }
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
@@ -34,7 +56,12 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         )));
     }
     let scene = satqual::spec::Scene::load(&args.scene)?;
-    let (model, sys) = satqual::pipeline::modal(&scene, args.fmax, args.modes)?;
+    let (model, sys) = satqual::pipeline::modal_with_solver(
+        &scene,
+        args.fmax,
+        args.modes,
+        args.solver.map(Into::into),
+    )?;
     let p = Printer::new(args.json);
     let r = &sys.result;
     let mut t = String::new();
@@ -94,7 +121,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     Ok(Outcome::Pass)
 }
 
-fn export(
+pub(super) fn export(
     dir: &Path,
     model: &satqual::fem::FeModel,
     red: &Reduction,
@@ -111,6 +138,11 @@ fn export(
         satqual::report::write_atomic(
             &dir.join("KG.mtx"),
             matrix_market(red.n_red, &kg).as_bytes(),
+        )?;
+        // The stiffness the eigen-solve actually used, K + K_G, for external solvers.
+        satqual::report::write_atomic(
+            &dir.join("KKG.mtx"),
+            matrix_market(red.n_red, &sys.k).as_bytes(),
         )?;
     }
     let mut csv = String::from("index,node,node_id,dof\n");

@@ -64,6 +64,13 @@ fn sym_eigen(a: &Mat<f64>, vectors: bool) -> Result<(Vec<f64>, Option<Mat<f64>>)
     }
 }
 
+/// All eigenpairs of a small symmetric matrix (the scaled solver above), for the projected
+/// matrices of the sparse Lanczos iteration.
+pub(crate) fn sym_eigen_pub(a: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>), DenseError> {
+    let (d, u) = sym_eigen(a, true)?;
+    Ok((d, u.ok_or(DenseError::NoConvergence)?))
+}
+
 /// L⁻¹·A·L⁻ᵀ, symmetrised.
 fn congruence(l: &Mat<f64>, a: &Mat<f64>) -> Mat<f64> {
     let mut x = a.clone();

@@ -1,0 +1,533 @@
+//! `satqual bench modal`: the sparse modal solver on stacks of 6, 20, 60 and 120 satellites
+//! (every mode below 2 kHz), against `scipy.sparse.linalg.eigsh` in shift-invert mode on the
+//! same exported matrices at the same tolerance, plus the dense/sparse crossover that sets
+//! `modal::AUTO_SPARSE_DOFS`. Writes `modal.json` and `modal.md`.
+//!
+//! The stacks come from `test-specs/paper-stack.toml` with `satellites = N` substituted (and
+//! the guide bars lengthened by one pitch per added satellite, so that they still reach
+//! through the stack).
+//!
+//! Peak memory is the process's VmHWM after resetting it (`/proc/self/clear_refs` ← 5) before
+//! each solve. Timings are wall-clock, one run each: a benchmark, never a test.
+
+use satqual::Error;
+use satqual::fem::FeModel;
+use satqual::modal::{ModalOptions, analyze};
+use satqual::spec::{Scene, SolverChoice};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+const FMAX_HZ: f64 = 2000.0;
+const SATELLITES: [usize; 4] = [6, 20, 60, 120];
+/// The tolerance both solvers are given: eigsh's `tol` (‖OP·y − θ·y‖ ≤ tol·|θ|, ARPACK's
+/// criterion) and the sparse module's `RESIDUAL_TOL` (the same bound scaled to a relative
+/// eigenvalue error, see `modal::sparse`).
+const TOL: f64 = satqual::modal::sparse::RESIDUAL_TOL;
+/// eigsh is stopped after this long: the ratio is then an upper bound.
+const EIGSH_LIMIT_S: f64 = 300.0;
+/// Largest stack also solved densely, for the crossover.
+const DENSE_MAX_DOFS: usize = 2500;
+
+#[derive(Serialize)]
+struct StackRow {
+    satellites: usize,
+    dofs: usize,
+    modes_below_fmax: usize,
+    sturm_count: Option<usize>,
+    time_s: f64,
+    /// The dense solver on the same model (up to `DENSE_MAX_DOFS`).
+    dense_time_s: Option<f64>,
+    peak_memory_mb: Option<f64>,
+    factorizations: usize,
+    slices: usize,
+    max_backward_error: f64,
+    eigsh_time_s: Option<f64>,
+    ratio_satqual_over_eigsh: Option<f64>,
+    max_rel_freq_diff_vs_eigsh: Option<f64>,
+    eigsh_note: Option<String>,
+}
+
+impl StackRow {
+    fn failed(satellites: usize, time_s: f64, error: String) -> StackRow {
+        StackRow {
+            satellites,
+            dofs: 0,
+            modes_below_fmax: 0,
+            sturm_count: None,
+            time_s,
+            dense_time_s: None,
+            peak_memory_mb: peak_mb(),
+            factorizations: 0,
+            slices: 0,
+            max_backward_error: f64::NAN,
+            eigsh_time_s: None,
+            ratio_satqual_over_eigsh: None,
+            max_rel_freq_diff_vs_eigsh: None,
+            eigsh_note: Some(format!("satqual failed: {error}")),
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct CrossRow {
+    dofs: usize,
+    modes: usize,
+    dense_s: f64,
+    sparse_s: f64,
+}
+
+#[derive(Serialize)]
+struct Report {
+    model: String,
+    /// /proc/loadavg before and after: the machine is shared, wall times scale with it.
+    load_average: [String; 2],
+    fmax_hz: f64,
+    tolerance: f64,
+    stacks: Vec<StackRow>,
+    crossover: Vec<CrossRow>,
+    auto_sparse_dofs: usize,
+}
+
+pub fn run(out: &Path) -> Result<(), Error> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let work = out.join("modal-work");
+    std::fs::create_dir_all(&work).map_err(|e| Error::io(&work, e))?;
+    let load0 = load_average();
+    let python = python_with_scipy();
+    let (model_note, scenes) = stack_scenes()?;
+    let mut stacks = Vec::new();
+    for (n, text) in scenes {
+        let path = work.join(format!("stack-{n}.toml"));
+        satqual::report::write_atomic(&path, text.as_bytes())?;
+        let model = match Scene::load(&path).and_then(|sc| satqual::pipeline::fe_model(&sc)) {
+            Ok(m) => m,
+            Err(e) => {
+                eprintln!("stack {n}: {e}");
+                stacks.push(StackRow::failed(n, 0.0, e.to_string()));
+                continue;
+            }
+        };
+        reset_peak();
+        let t0 = Instant::now();
+        let sys = match analyze(
+            &model,
+            &ModalOptions {
+                fmax_hz: Some(FMAX_HZ),
+                modes: None,
+                solver: SolverChoice::Sparse,
+            },
+        ) {
+            Ok(sys) => sys,
+            Err(e) => {
+                // A failed size is a result of the benchmark, reported, not an abort.
+                eprintln!("stack {n}: {e}");
+                stacks.push(StackRow::failed(
+                    n,
+                    t0.elapsed().as_secs_f64(),
+                    e.to_string(),
+                ));
+                continue;
+            }
+        };
+        let time_s = t0.elapsed().as_secs_f64();
+        let peak = peak_mb();
+        let r = &sys.result;
+        let st = r.sparse.clone().unwrap_or_default();
+        eprintln!(
+            "stack {n}: {} DOFs, {} modes below {FMAX_HZ} Hz, {time_s:.3} s",
+            r.dofs,
+            r.modes.len()
+        );
+        let dense_time_s = if r.dofs <= DENSE_MAX_DOFS {
+            let t0 = Instant::now();
+            analyze(
+                &model,
+                &ModalOptions {
+                    fmax_hz: Some(FMAX_HZ),
+                    modes: None,
+                    solver: SolverChoice::Dense,
+                },
+            )?;
+            Some(t0.elapsed().as_secs_f64())
+        } else {
+            None
+        };
+        let mut row = StackRow {
+            satellites: n,
+            dofs: r.dofs,
+            modes_below_fmax: r.modes.len(),
+            sturm_count: st.fmax_count,
+            time_s,
+            dense_time_s,
+            peak_memory_mb: peak,
+            factorizations: st.factorizations,
+            slices: st.slices,
+            max_backward_error: st.max_backward_error,
+            eigsh_time_s: None,
+            ratio_satqual_over_eigsh: None,
+            max_rel_freq_diff_vs_eigsh: None,
+            eigsh_note: None,
+        };
+        match &python {
+            None => row.eigsh_note = Some("python3 with scipy not found: not run".into()),
+            Some(py) => {
+                let dir = work.join(format!("stack-{n}-matrices"));
+                super::modal::export(&dir, &model, &sys.reduction, &sys)?;
+                let kfile = if r.prestress.is_some() {
+                    "KKG.mtx"
+                } else {
+                    "K.mtx"
+                };
+                match eigsh(py, &dir, kfile, r.modes.len(), r.dofs) {
+                    Ok((t, f)) => {
+                        let ours: Vec<f64> = r.modes.iter().map(|m| m.frequency_hz).collect();
+                        let diff = ours
+                            .iter()
+                            .zip(&f)
+                            .map(|(a, b)| (a - b).abs() / b.abs())
+                            .fold(0.0, f64::max);
+                        row.eigsh_time_s = Some(t);
+                        row.ratio_satqual_over_eigsh = Some(time_s / t);
+                        row.max_rel_freq_diff_vs_eigsh = Some(diff);
+                        if f.len() != ours.len() {
+                            row.eigsh_note = Some(format!("eigsh returned {} values", f.len()));
+                        }
+                    }
+                    Err(e) => row.eigsh_note = Some(e),
+                }
+            }
+        }
+        stacks.push(row);
+    }
+    let crossover = crossover()?;
+    let report = Report {
+        model: model_note,
+        load_average: [load0, load_average()],
+        fmax_hz: FMAX_HZ,
+        tolerance: TOL,
+        stacks,
+        crossover,
+        auto_sparse_dofs: satqual::modal::AUTO_SPARSE_DOFS,
+    };
+    let json = serde_json::to_string_pretty(&report).map_err(|e| Error::Other(e.to_string()))?;
+    satqual::report::write_atomic(&out.join("modal.json"), json.as_bytes())?;
+    satqual::report::write_atomic(&out.join("modal.md"), markdown(&report).as_bytes())?;
+    eprintln!("wrote {}", out.join("modal.{json,md}").display());
+    Ok(())
+}
+
+fn markdown(r: &Report) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Modal benchmark: sparse shift-invert Lanczos\n");
+    let _ = writeln!(
+        s,
+        "Every mode below {} Hz; tolerance {:e} for both solvers (eigsh `tol`; satqual's relative \
+         eigenvalue-error bound, see `modal::sparse`). Model: {}. \
+         satqual time: `modal::analyze` end to end (assembly, prestress static solve, buckling, \
+         eigen-solve, effective masses); eigsh time: the `eigsh` call alone (its LU included, \
+         reading the files excluded). One run each, wall clock, on this machine ({} cores, shared: \
+         load average {} before and {} after the run).\n",
+        r.fmax_hz,
+        r.tolerance,
+        r.model,
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1),
+        r.load_average[0],
+        r.load_average[1]
+    );
+    let _ = writeln!(
+        s,
+        "| satellites | DOFs | modes < fmax | Sturm count | satqual [s] | dense [s] | peak mem [MB] | eigsh [s] | satqual/eigsh | max rel Δf | note |"
+    );
+    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    let opt = |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or("–".into());
+    for row in &r.stacks {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {:.3} | {} | {} | {} | {} | {} | {} |",
+            row.satellites,
+            row.dofs,
+            row.modes_below_fmax,
+            row.sturm_count.map(|c| c.to_string()).unwrap_or("–".into()),
+            row.time_s,
+            opt(row.dense_time_s, 3),
+            opt(row.peak_memory_mb, 0),
+            opt(row.eigsh_time_s, 3),
+            opt(row.ratio_satqual_over_eigsh, 3),
+            row.max_rel_freq_diff_vs_eigsh
+                .map(|x| format!("{x:.1e}"))
+                .unwrap_or("–".into()),
+            row.eigsh_note.clone().unwrap_or_default()
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n## Dense or sparse: the crossover\n\nThe dense solver's cost is fixed by the DOFs (all modes, \
+         O(n³)); the sparse one's grows with the modes asked for. On generated frame towers (beams, \
+         offset masses, springs) with the lowest tenth of the modes (at most 100), sparse wins from a \
+         few hundred DOFs; on the stack, where about 45% of all modes lie below 2 kHz, dense wins at \
+         692 DOFs and sparse at 2120 (stack table). `Auto` switches to sparse above {} reduced DOFs, \
+         between the two, which keeps the verification scenes and the 6-satellite stack dense.\n",
+        r.auto_sparse_dofs
+    );
+    let _ = writeln!(s, "| DOFs | modes | dense [s] | sparse [s] |");
+    let _ = writeln!(s, "|---:|---:|---:|---:|");
+    for c in &r.crossover {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.3} | {:.3} |",
+            c.dofs, c.modes, c.dense_s, c.sparse_s
+        );
+    }
+    s
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_default()
+}
+
+fn reset_peak() {
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
+}
+
+fn peak_mb() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
+fn python_with_scipy() -> Option<PathBuf> {
+    let ok = std::process::Command::new("python3")
+        .args(["-c", "import scipy.sparse.linalg, scipy.io"])
+        .output()
+        .ok()?
+        .status
+        .success();
+    ok.then(|| PathBuf::from("python3"))
+}
+
+/// Runs eigsh in shift-invert mode for the lowest `k` modes; returns (seconds, frequencies).
+fn eigsh(
+    py: &Path,
+    dir: &Path,
+    kfile: &str,
+    k: usize,
+    n: usize,
+) -> Result<(f64, Vec<f64>), String> {
+    if k == 0 || k >= n {
+        return Err(format!("eigsh needs 0 < k < n (k = {k}, n = {n})"));
+    }
+    // σ below the spectrum (the lowest stack mode is a few Hz), as the Lanczos starts.
+    let script = format!(
+        r#"
+import json, time, numpy as np, scipy.io, scipy.sparse.linalg as sla
+K = scipy.io.mmread(r"{k}").tocsc(); M = scipy.io.mmread(r"{m}").tocsc()
+t = time.perf_counter()
+w = sla.eigsh(K, k={kk}, M=M, sigma=-1.0, which="LM", tol={tol}, return_eigenvectors=False)
+t = time.perf_counter() - t
+f = np.sort(np.sign(w) * np.sqrt(np.abs(w)) / (2 * np.pi))
+print(json.dumps({{"time": t, "freq": f.tolist()}}))
+"#,
+        k = dir.join(kfile).display(),
+        m = dir.join("M.mtx").display(),
+        kk = k,
+        tol = TOL
+    );
+    let mut child = std::process::Command::new(py)
+        .args(["-c", &script])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("python3: {e}"))?;
+    let t0 = Instant::now();
+    loop {
+        match child.try_wait() {
+            Ok(Some(_)) => break,
+            Ok(None) if t0.elapsed().as_secs_f64() > EIGSH_LIMIT_S => {
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(format!(
+                    "eigsh did not finish within {EIGSH_LIMIT_S:.0} s (stopped)"
+                ));
+            }
+            Ok(None) => std::thread::sleep(std::time::Duration::from_millis(50)),
+            Err(e) => return Err(format!("python3: {e}")),
+        }
+    }
+    let out = child
+        .wait_with_output()
+        .map_err(|e| format!("python3: {e}"))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!(
+            "eigsh failed: {}",
+            err.lines().last().unwrap_or("").trim()
+        ));
+    }
+    let v: serde_json::Value =
+        serde_json::from_slice(&out.stdout).map_err(|e| format!("eigsh output: {e}"))?;
+    let t = v["time"].as_f64().ok_or("eigsh output: no time")?;
+    let f = v["freq"]
+        .as_array()
+        .ok_or("eigsh output: no frequencies")?
+        .iter()
+        .filter_map(|x| x.as_f64())
+        .collect();
+    Ok((t, f))
+}
+
+/// The stack scenes: the paper stack with `satellites = N`.
+fn stack_scenes() -> Result<(String, Vec<(usize, String)>), Error> {
+    let path = Path::new("test-specs/paper-stack.toml");
+    let base = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let scenes = SATELLITES
+        .iter()
+        .map(|&n| (n, with_satellites(&base, n)))
+        .collect();
+    Ok((
+        "test-specs/paper-stack.toml with `satellites = N` (guide bars lengthened by one pitch per added satellite)".into(),
+        scenes,
+    ))
+}
+
+/// `satellites = N`, and the guide bars one pitch longer per added satellite.
+fn with_satellites(base: &str, n: usize) -> String {
+    let num = |line: &str| -> Option<f64> {
+        line.split('=')
+            .nth(1)?
+            .split('#')
+            .next()?
+            .trim()
+            .parse()
+            .ok()
+    };
+    let get = |key: &str| {
+        base.lines()
+            .find(|l| l.trim_start().starts_with(key))
+            .and_then(num)
+    };
+    let n0 = get("satellites").unwrap_or(6.0);
+    let pitch = get("satellite_pitch_m").unwrap_or(0.6);
+    let mut s = String::with_capacity(base.len());
+    for line in base.lines() {
+        let t = line.trim_start();
+        if t.starts_with("satellites ") || t.starts_with("satellites=") {
+            let _ = writeln!(s, "satellites = {n}");
+        } else if t.starts_with("bar_length_m") {
+            let l = num(line).unwrap_or(3.85) + (n as f64 - n0) * pitch;
+            let _ = writeln!(s, "bar_length_m = {l}");
+        } else {
+            let _ = writeln!(s, "{line}");
+        }
+    }
+    s
+}
+
+/// Dense against sparse on generated frame towers of growing size.
+fn crossover() -> Result<Vec<CrossRow>, Error> {
+    let mut rows = Vec::new();
+    for levels in [2usize, 4, 6, 9] {
+        let text = frame(4, 3, levels);
+        let scene = Scene::parse(Path::new("frame.toml"), &text)?;
+        let model = FeModel::from_scene(&scene.model)?;
+        let n = model.reduction()?.n_red;
+        let modes = (n / 10).clamp(1, 100);
+        let mut t = [0.0; 2];
+        for (i, solver) in [SolverChoice::Dense, SolverChoice::Sparse]
+            .iter()
+            .enumerate()
+        {
+            let t0 = Instant::now();
+            analyze(
+                &model,
+                &ModalOptions {
+                    fmax_hz: None,
+                    modes: Some(modes),
+                    solver: *solver,
+                },
+            )?;
+            t[i] = t0.elapsed().as_secs_f64();
+        }
+        eprintln!(
+            "crossover: {n} DOFs, {modes} modes: dense {:.3} s, sparse {:.3} s",
+            t[0], t[1]
+        );
+        rows.push(CrossRow {
+            dofs: n,
+            modes,
+            dense_s: t[0],
+            sparse_s: t[1],
+        });
+    }
+    Ok(rows)
+}
+
+/// A frame tower: `levels` floors of an nx × ny grid of steel beams (two elements each),
+/// tube columns, a 30 kg offset mass on every top node, diagonal springs, clamped base.
+fn frame(nx: usize, ny: usize, levels: usize) -> String {
+    let mut s = String::from(
+        "[[material]]\nname = \"steel\"\nyoungs_modulus_pa = 210e9\npoisson_ratio = 0.3\ndensity_kg_m3 = 7850\n\
+         [[section]]\nname = \"tube\"\nshape = \"tube\"\nouter_diameter_m = 0.06\ninner_diameter_m = 0.05\n",
+    );
+    let id = |i: usize, j: usize, k: usize| 1 + i + nx * (j + ny * k);
+    for k in 0..=levels {
+        for j in 0..ny {
+            for i in 0..nx {
+                let _ = writeln!(
+                    s,
+                    "[[node]]\nid = {}\nposition_m = [{}, {}, {}]",
+                    id(i, j, k),
+                    1.1 * i as f64,
+                    0.8 * j as f64,
+                    0.7 * k as f64
+                );
+            }
+        }
+    }
+    for k in 0..=levels {
+        for j in 0..ny {
+            for i in 0..nx {
+                let mut beam = |a: usize, b: usize| {
+                    let _ = writeln!(
+                        s,
+                        "[[beam]]\nnodes = [{a}, {b}]\nsection = \"tube\"\nmaterial = \"steel\"\nelements = 2"
+                    );
+                };
+                if k > 0 && i + 1 < nx {
+                    beam(id(i, j, k), id(i + 1, j, k));
+                }
+                if k > 0 && j + 1 < ny {
+                    beam(id(i, j, k), id(i, j + 1, k));
+                }
+                if k < levels {
+                    beam(id(i, j, k), id(i, j, k + 1));
+                }
+                if k < levels && i + 1 < nx && j + 1 < ny && (i + j + k) % 2 == 0 {
+                    let _ = writeln!(
+                        s,
+                        "[[spring]]\nnodes = [{}, {}]\nstiffness = [2e6, 3e6, 1e6, 1e4, 2e4, 5e3]",
+                        id(i, j, k),
+                        id(i + 1, j + 1, k + 1)
+                    );
+                }
+                if k == levels {
+                    let _ = writeln!(
+                        s,
+                        "[[mass]]\nnode = {}\nmass_kg = 30.0\ninertia_kg_m2 = [0.5, 0.7, 0.9]\noffset_m = [0.05, -0.03, 0.1]",
+                        id(i, j, k)
+                    );
+                }
+                if k == 0 {
+                    let _ = writeln!(s, "[[support]]\nnode = {}\ndofs = \"123456\"", id(i, j, k));
+                }
+            }
+        }
+    }
+    s
+}

@@ -1,0 +1,1380 @@
+//! Sparse solvers for large models: the modes up to `fmax_hz` (or the lowest N) of K·φ = λ·M·φ,
+//! the prestress static solve K·u = f and the linear buckling factor of (K + λ·K_G)·φ = 0,
+//! without ever forming a dense n×n matrix.
+//!
+//! # Factorization and the Sturm count
+//! K − σM is assembled once on the union sparsity pattern of K and M (lower triangle), ordered
+//! once with faer's approximate minimum degree (AMD), analysed once (faer picks simplicial or
+//! supernodal), and refactorised numerically for every shift σ as LDLᵀ without pivoting
+//! (`faer::sparse::linalg::cholesky`, `Par::Seq`). By Sylvester's law of inertia the number of
+//! negative pivots of D equals the number of eigenvalues below σ: that **Sturm count** at
+//! σ = (2π·fmax)² says exactly how many modes lie below `fmax_hz`, and it is what proves the
+//! answer complete ([`sturm_check`]). LDLᵀ without pivoting can in principle lose its inertia
+//! on an indefinite matrix; a wrong count cannot go unnoticed here, because every count is
+//! matched against converged eigenpairs and a mismatch fails loudly.
+//!
+//! # Shift-invert block Lanczos with spectrum slicing
+//! For a shift σ the operator OP = (K − σM)⁻¹·M is self-adjoint in the M-inner product and
+//! maps λ to θ = 1/(λ − σ), so the eigenvalues nearest σ become the largest and converge first.
+//! A block Lanczos (block size [`BLOCK`], M-orthonormal basis, full re-orthogonalisation
+//! against the basis and the locked vectors, twice: "twice is enough") builds a projected
+//! block-tridiagonal matrix whose eigenpairs are the Ritz pairs. The block copes with the
+//! repeated eigenvalues of symmetric structures (a single-vector Lanczos finds one vector per
+//! eigenspace), and makes the triangular solves matrix–matrix work.
+//!
+//! One run cannot hold hundreds of modes (the basis and re-orthogonalisation cost n·m²), so
+//! the band is cut into slices, Grimes–Lewis–Simon style, each proven by Sturm counts:
+//! 1. σ₀ < 0 below the whole spectrum (count 0; a negative shift also factors free-free models
+//!    whose K is singular, and finds their rigid-body modes). It is the first slice's edge a.
+//! 2. Above an edge a (count c(a), everything below found), the shift s sits inside the slice,
+//!    about half a slice of modes above a (from the previous slice's density), and is counted
+//!    too. Lanczos at s, deflated against the previous slice's vectors, converges eigenvalues
+//!    on both sides of s.
+//! 3. Once all c(s) − c(a) eigenvalues of [a, s) have converged and an unbroken run above s
+//!    has too (about [`SLICE_MODES`] in all), the next edge b goes between the run's last
+//!    eigenvalue and the next Ritz value, and K − bM is factored: if c(b) − c(a) equals the
+//!    number of converged eigenvalues in [a, b), the slice is complete.
+//! 4. If some are missing, typically copies of a repeated eigenvalue (the stack's columns
+//!    repeat one local mode 4·N times), the run restarts with the converged vectors locked, a
+//!    block as large as the number missing (a block of p vectors brings at most p copies of a
+//!    multiple eigenvalue into the Krylov space), and the shift moved next to the unconverged
+//!    Ritz values, i.e. to where the missing eigenvalues are.
+//! 5. With `fmax_hz`, the band ends at (2π·fmax)², whose count was taken first; with `modes`
+//!    only, at the first edge whose count reaches the number asked for.
+//!
+//! # Tolerance
+//! For a Ritz pair (θ, y) of OP with residual r = ‖OP·y − θ·y‖_M (read off the block
+//! tridiagonal matrix), OP being M-self-adjoint gives |δθ| ≤ r, hence an eigenvalue error
+//! |δλ| ≤ r/θ² to first order (and ~r²/gap for a separated eigenvalue). A pair is accepted when
+//! (a) that bound is at most [`RESIDUAL_TOL`] relative: r/θ² ≤ tol·max(|λ|, |σ|) (the |σ|
+//! keeps rigid-body modes, λ ≈ 0, from asking for the impossible), and (b) r ≤ [`VECTOR_TOL`]·|θ|,
+//! ARPACK's criterion (the `tol` of `scipy.sparse.linalg.eigsh`), which bounds the backward
+//! error of the eigenvector relative to ‖K − σM‖. (a) alone would accept poor vectors of
+//! eigenvalues very close to the shift; (b) alone cannot be met far from the shift, where the
+//! residual floor is round-off relative to the largest θ. After convergence the true residual
+//! ‖K·φ − λ·M·φ‖₂ is measured for every pair and reported as a normwise backward error
+//! ‖r‖₂ / ((‖K‖₁ + |λ|·‖M‖₁)·‖φ‖₂) in [`SparseStats`].
+//!
+//! # Cost
+//! The stack's K − σM factors with almost no fill (about 5 values of L per unknown after AMD),
+//! so factorizations and solves are cheap and the time goes into re-orthogonalisation and the
+//! projected eigen-problems, which grow with (modes below fmax) × (basis size) × n. With the
+//! default stack mesh about 45% of all DOFs have modes below 2 kHz, which is what sets the run
+//! time of `satqual bench modal`.
+//!
+//! # Why hand-written
+//! faer 0.24 offers sparse LDLᵀ but no sparse symmetric eigen-solver, and no maintained Rust
+//! crate provides a shift-invert Lanczos with inertia checks on a faer factorization; the
+//! Lanczos iteration itself is short, the linear algebra underneath is faer's.
+//!
+//! Determinism: every faer call runs with `Par::Seq` and the start blocks come from a seeded
+//! ChaCha generator, so results are byte-identical whatever the thread count.
+
+use crate::error::ModalError;
+use crate::fem::model::Triplets;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::linalg::matmul::matmul;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LdltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, simplicial::SimplicialLdltRef, supernodal::SupernodalLdltRef,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Accum, Conj, Mat, MatMut, MatRef, Par, Side};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Block size of the Lanczos iteration: covers the multiplicities of symmetric frames (two
+/// bending planes of a round bar, four identical guide bars) and turns the solves into
+/// matrix–matrix work.
+pub const BLOCK: usize = 8;
+/// Eigenvalues aimed for per spectrum slice: the basis then stays near 3× that, which keeps
+/// the n·m² re-orthogonalisation cheap against a factorization (measured on the stack).
+pub const SLICE_MODES: usize = 48;
+/// Restarts of one slice: each one locks what converged and aims at the missing eigenvalues
+/// (a cluster of 4·N repeated column modes needs about 4·N/40 of them).
+pub const MAX_RESTARTS: usize = 64;
+/// Largest Lanczos basis of one run.
+pub const MAX_BASIS: usize = 200;
+/// Accepted first-order bound on the relative eigenvalue error of a Ritz pair (module doc);
+/// frequencies then carry at most half of it.
+pub const RESIDUAL_TOL: f64 = 1e-10;
+/// Accepted ‖OP·y − θ·y‖_M / |θ| (ARPACK's criterion), which bounds the backward error of the
+/// eigenvector (module doc); looser than the eigenvalue criterion because its round-off floor
+/// grows with the distance from the shift.
+pub const VECTOR_TOL: f64 = 1e-9;
+/// A pivot d_i of an SPD factorization with d_i ≤ this × A_ii marks a singular direction:
+/// d_i/A_ii is the reciprocal of a condition number, and rounding alone leaves it near 1e-16
+/// on an exact mechanism.
+pub const SINGULAR_PIVOT: f64 = 1e-12;
+
+/// Failures of the sparse solvers, with the numerical fact.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SparseError {
+    /// Non-positive (or relatively negligible) pivot of a matrix that had to be positive
+    /// definite, at this index of the input (not the permuted) ordering.
+    NotPositiveDefinite {
+        index: usize,
+    },
+    Modal(ModalError),
+}
+
+impl From<ModalError> for SparseError {
+    fn from(e: ModalError) -> Self {
+        SparseError::Modal(e)
+    }
+}
+
+/// A symmetric sparse matrix stored with both triangles (compressed columns), for products.
+#[derive(Debug, Clone)]
+pub struct SymCsc {
+    pub n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    val: Vec<f64>,
+}
+
+impl SymCsc {
+    /// From triplets holding both triangles (duplicates add), as the FE assembly writes them.
+    pub fn from_triplets(n: usize, t: &Triplets) -> SymCsc {
+        let mut e: Vec<(usize, usize, f64)> = t.to_vec();
+        e.sort_unstable_by_key(|a| (a.1, a.0));
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = Vec::with_capacity(e.len());
+        let mut val: Vec<f64> = Vec::with_capacity(e.len());
+        let mut last: Option<(usize, usize)> = None;
+        for (i, j, v) in e {
+            if last == Some((i, j)) {
+                *val.last_mut().expect("a previous entry") += v;
+            } else {
+                row_idx.push(i);
+                val.push(v);
+                col_ptr[j + 1] += 1;
+                last = Some((i, j));
+            }
+        }
+        for j in 0..n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        SymCsc {
+            n,
+            col_ptr,
+            row_idx,
+            val,
+        }
+    }
+
+    /// y = A·x for a block of columns.
+    pub fn mul(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let mut y = Mat::<f64>::zeros(self.n, x.ncols());
+        for c in 0..x.ncols() {
+            let xc = col_vec_ref(x, c);
+            let mut yc = vec![0.0; self.n];
+            for (j, &xj) in xc.iter().enumerate() {
+                if xj == 0.0 {
+                    continue;
+                }
+                let (lo, hi) = (self.col_ptr[j], self.col_ptr[j + 1]);
+                for (&r, &v) in self.row_idx[lo..hi].iter().zip(&self.val[lo..hi]) {
+                    yc[r] += v * xj;
+                }
+            }
+            for (i, v) in yc.into_iter().enumerate() {
+                y[(i, c)] = v;
+            }
+        }
+        y
+    }
+
+    /// c·A.
+    pub fn scaled(&self, c: f64) -> SymCsc {
+        SymCsc {
+            val: self.val.iter().map(|v| c * v).collect(),
+            ..self.clone()
+        }
+    }
+
+    /// Largest absolute column sum.
+    pub fn norm1(&self) -> f64 {
+        (0..self.n)
+            .map(|j| {
+                self.val[self.col_ptr[j]..self.col_ptr[j + 1]]
+                    .iter()
+                    .map(|v| v.abs())
+                    .sum::<f64>()
+            })
+            .fold(0.0, f64::max)
+    }
+
+    pub fn diag(&self) -> Vec<f64> {
+        let mut d = vec![0.0; self.n];
+        for j in 0..self.n {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                if self.row_idx[p] == j {
+                    d[j] += self.val[p];
+                }
+            }
+        }
+        d
+    }
+}
+
+/// K − σ·M on one lower-triangular pattern (the union of both), with its symbolic analysis
+/// (AMD ordering, elimination tree, supernodes) done once for every shift.
+pub struct Pencil {
+    pub n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    kv: Vec<f64>,
+    mv: Vec<f64>,
+    diag_k: Vec<f64>,
+    diag_m: Vec<f64>,
+    symbolic: SymbolicCholesky<usize>,
+}
+
+/// LDLᵀ of K − σM: the values and the pivots (in the elimination order).
+pub struct Factor<'a> {
+    pencil: &'a Pencil,
+    pub sigma: f64,
+    values: Vec<f64>,
+    /// D in elimination order.
+    pivots: Vec<f64>,
+    /// Number of negative pivots = number of eigenvalues below σ.
+    pub negative: usize,
+}
+
+impl Pencil {
+    /// `m = None` gives the pencil (K, 0): a plain factorization of K.
+    pub fn new(k: &SymCsc, m: Option<&SymCsc>) -> Result<Pencil, SparseError> {
+        let n = k.n;
+        // Merge the lower triangles column by column (rows sorted in both).
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = Vec::new();
+        let mut kv = Vec::new();
+        let mut mv = Vec::new();
+        for j in 0..n {
+            let lower = |a: &SymCsc| -> Vec<(usize, f64)> {
+                (a.col_ptr[j]..a.col_ptr[j + 1])
+                    .filter(|&p| a.row_idx[p] >= j)
+                    .map(|p| (a.row_idx[p], a.val[p]))
+                    .collect()
+            };
+            let ka = lower(k);
+            let ma = m.map(lower).unwrap_or_default();
+            let (mut a, mut b) = (0, 0);
+            // The diagonal is always present, so that a shift never meets a missing entry.
+            let mut diag_seen = false;
+            while a < ka.len() || b < ma.len() {
+                let ra = ka.get(a).map(|x| x.0).unwrap_or(usize::MAX);
+                let rb = ma.get(b).map(|x| x.0).unwrap_or(usize::MAX);
+                let r = ra.min(rb);
+                if r > j && !diag_seen {
+                    row_idx.push(j);
+                    kv.push(0.0);
+                    mv.push(0.0);
+                    diag_seen = true;
+                    continue;
+                }
+                diag_seen |= r == j;
+                let mut vk = 0.0;
+                let mut vm = 0.0;
+                if ra == r {
+                    vk = ka[a].1;
+                    a += 1;
+                }
+                if rb == r {
+                    vm = ma[b].1;
+                    b += 1;
+                }
+                row_idx.push(r);
+                kv.push(vk);
+                mv.push(vm);
+            }
+            if !diag_seen {
+                row_idx.push(j);
+                kv.push(0.0);
+                mv.push(0.0);
+            }
+            col_ptr[j + 1] = row_idx.len();
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let symbolic = factorize_symbolic_cholesky(
+            sym,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| {
+            SparseError::Modal(ModalError::Invalid(format!(
+                "sparse symbolic analysis failed: {e:?}"
+            )))
+        })?;
+        let diag_k = k.diag();
+        let diag_m = m.map(|m| m.diag()).unwrap_or_else(|| vec![0.0; n]);
+        Ok(Pencil {
+            n,
+            col_ptr,
+            row_idx,
+            kv,
+            mv,
+            diag_k,
+            diag_m,
+            symbolic,
+        })
+    }
+
+    /// Original index of the i-th eliminated unknown. faer's supernodal LDLᵀ may report a
+    /// zero pivot at the end of its supernode, one past the last unknown: clamped.
+    fn original(&self, i: usize) -> usize {
+        let i = i.min(self.n.saturating_sub(1));
+        match self.symbolic.perm() {
+            Some(p) => p.arrays().0[i],
+            None => i,
+        }
+    }
+
+    /// Bytes held by the factor's values.
+    pub fn factor_len(&self) -> usize {
+        self.symbolic.len_val()
+    }
+
+    /// LDLᵀ of K − σM. An exactly zero pivot is reported with its (input-order) index.
+    pub fn factor(&self, sigma: f64) -> Result<Factor<'_>, SparseError> {
+        let n = self.n;
+        let vals: Vec<f64> = self
+            .kv
+            .iter()
+            .zip(&self.mv)
+            .map(|(k, m)| k - sigma * m)
+            .collect();
+        let a = SparseColMatRef::new(
+            SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
+            &vals,
+        );
+        let mut values = vec![0.0; self.symbolic.len_val()];
+        let req = self
+            .symbolic
+            .factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default());
+        let mut mem = MemBuffer::new(req);
+        self.symbolic
+            .factorize_numeric_ldlt(
+                &mut values,
+                a,
+                Side::Lower,
+                LdltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| match e {
+                faer::linalg::cholesky::ldlt::factor::LdltError::ZeroPivot { index } => {
+                    SparseError::NotPositiveDefinite {
+                        index: self.original(index),
+                    }
+                }
+            })?;
+        let mut pivots = vec![0.0; n];
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let l = SimplicialLdltRef::new(s, &values);
+                let f = s.factor();
+                let (cp, ri) = (f.col_ptr(), f.row_idx());
+                for j in 0..n {
+                    for p in cp[j]..cp[j + 1] {
+                        if ri[p] == j {
+                            pivots[j] = l.values()[p];
+                        }
+                    }
+                }
+            }
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let l = SupernodalLdltRef::new(s, &values);
+                for k in 0..s.n_supernodes() {
+                    let sn = l.supernode(k);
+                    let start = sn.start();
+                    let v = sn.val();
+                    for i in 0..v.ncols() {
+                        pivots[start + i] = v[(i, i)];
+                    }
+                }
+            }
+        }
+        let negative = pivots.iter().filter(|&&d| d < 0.0).count();
+        if let Some(i) = pivots.iter().position(|d| !d.is_finite()) {
+            return Err(SparseError::NotPositiveDefinite {
+                index: self.original(i),
+            });
+        }
+        Ok(Factor {
+            pencil: self,
+            sigma,
+            values,
+            pivots,
+            negative,
+        })
+    }
+}
+
+impl Factor<'_> {
+    /// Solves (K − σM)·X = B in place.
+    pub fn solve(&self, mut rhs: MatMut<'_, f64>) {
+        let sym = &self.pencil.symbolic;
+        let req = sym.solve_in_place_scratch::<f64>(rhs.ncols(), Par::Seq);
+        let mut mem = MemBuffer::new(req);
+        LdltRef::new(sym, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            rhs.as_mut(),
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
+    }
+
+    /// The first pivot (in elimination order) that is not clearly positive, relative to the
+    /// diagonal of K − σM at that unknown, as an input-order index.
+    pub fn first_singular(&self) -> Option<usize> {
+        let p = self.pencil;
+        (0..p.n).find_map(|i| {
+            let o = p.original(i);
+            let a = (p.diag_k[o] - self.sigma * p.diag_m[o]).abs();
+            (self.pivots[i] <= SINGULAR_PIVOT * a).then_some(o)
+        })
+    }
+
+    /// Smallest |d_i| / |A_ii|: how close σ sits to an eigenvalue.
+    fn min_relative_pivot(&self) -> f64 {
+        let p = self.pencil;
+        (0..p.n)
+            .map(|i| {
+                let o = p.original(i);
+                let a = (p.diag_k[o] - self.sigma * p.diag_m[o]).abs();
+                if a > 0.0 {
+                    self.pivots[i].abs() / a
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// Solves K·u = f with K symmetric positive definite (sparse LDLᵀ, one step of iterative
+/// refinement). A pivot that is not clearly positive names the unknown where K is singular.
+pub fn solve_spd(k: &SymCsc, f: &[f64]) -> Result<Vec<f64>, SparseError> {
+    faer::set_global_parallelism(Par::Seq);
+    let pencil = Pencil::new(k, None)?;
+    let fac = pencil.factor(0.0)?;
+    if let Some(index) = fac.first_singular() {
+        return Err(SparseError::NotPositiveDefinite { index });
+    }
+    Ok(solve_refined(k, &fac, f))
+}
+
+fn solve_refined(k: &SymCsc, fac: &Factor<'_>, f: &[f64]) -> Vec<f64> {
+    let n = f.len();
+    let mut x = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);
+    fac.solve(x.as_mut());
+    let kx = k.mul(x.as_ref());
+    let mut r = Mat::<f64>::from_fn(n, 1, |i, _| f[i] - kx[(i, 0)]);
+    fac.solve(r.as_mut());
+    (0..n).map(|i| x[(i, 0)] + r[(i, 0)]).collect()
+}
+
+/// Smallest positive λ of (K + λ·K_G)·φ = 0 with K positive definite; `None` when the
+/// prestress destabilises no direction (as in the dense path: no eigenvalue μ = 1/λ of
+/// −K_G·φ = μ·K·φ is positive beyond round-off relative to the spectrum).
+///
+/// Two phases. A short block Lanczos on K⁻¹·(−K_G) in the K-inner product brackets the
+/// answer: its top Ritz value θ ≤ max μ, so λ₁ ≤ 1/θ. The wanted μ is, however, an interior
+/// cluster next to the large negative μ of the tensioned members, where plain Lanczos crawls
+/// (measured: 200 vectors for 6 digits on a 6-satellite stack). So the second phase is the
+/// "buckling mode" spectral transformation: with a shift 0 < σ < λ₁, proven by a Sturm count of
+/// zero for K + σ·K_G, the operator (K + σ·K_G)⁻¹·K is K-self-adjoint with eigenvalues
+/// ν = λ/(λ − σ), and λ₁ becomes the largest ν, well separated.
+pub fn buckling_factor(k: &SymCsc, kg: &SymCsc) -> Result<Option<f64>, SparseError> {
+    faer::set_global_parallelism(Par::Seq);
+    let n = k.n;
+    let neg_kg = kg.scaled(-1.0);
+    // The pencil (K, −K_G): factor(σ) is K + σ·K_G.
+    let pencil = Pencil::new(k, Some(&neg_kg))?;
+    let fac = pencil.factor(0.0)?;
+    if let Some(index) = fac.first_singular() {
+        return Err(SparseError::NotPositiveDefinite { index });
+    }
+    let op = |v: MatRef<'_, f64>, _bv: MatRef<'_, f64>| {
+        let mut w = neg_kg.mul(v);
+        fac.solve(w.as_mut());
+        w
+    };
+    let empty = Mat::<f64>::zeros(n, 0);
+    let max_basis = (MAX_BASIS.min(n) / BLOCK.min(n)).max(1) * BLOCK.min(n);
+    let mut lz = Lanczos::new(
+        n,
+        BLOCK.min(n),
+        max_basis,
+        empty.as_ref(),
+        empty.as_ref(),
+        7,
+    );
+    lz.start(k);
+    let mut bracket = None;
+    loop {
+        let more = lz.step(&op, k);
+        let (theta, res, _) = lz.ritz()?;
+        if theta.is_empty() {
+            return Ok(None);
+        }
+        let span = theta.iter().fold(0.0f64, |a, &t| a.max(t.abs()));
+        let top = theta.len() - 1;
+        let max = theta[top];
+        // The top Ritz value is a lower bound of max μ, so "no positive μ" can only be
+        // concluded once it has converged.
+        if res[top] <= RESIDUAL_TOL * span {
+            return Ok(if max > 1e-12 * span {
+                Some(1.0 / max)
+            } else {
+                None
+            });
+        }
+        if max > 1e-12 * span && lz.blocks() >= 4 {
+            bracket = Some(1.0 / max);
+            break;
+        }
+        if !more {
+            break;
+        }
+    }
+    let Some(upper) = bracket else {
+        return Err(ModalError::NoConvergence(format!(
+            "buckling: the largest eigenvalue of K⁻¹·(−K_G) did not converge within a {max_basis}-vector Lanczos basis"
+        ))
+        .into());
+    };
+    // A shift below λ₁: count 0 for K + σ·K_G.
+    let mut sigma = 0.9 * upper;
+    let mut shifted = None;
+    for _ in 0..40 {
+        match pencil.factor(sigma) {
+            Ok(f) if f.negative == 0 && f.min_relative_pivot() > 1e-13 => {
+                shifted = Some(f);
+                break;
+            }
+            _ => sigma *= 0.7,
+        }
+    }
+    let shifted = shifted.ok_or_else(|| {
+        ModalError::NoConvergence(format!(
+            "buckling: no shift below the first buckling factor found under {upper:e}"
+        ))
+    })?;
+    let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
+        let mut w = bv.to_owned();
+        shifted.solve(w.as_mut());
+        w
+    };
+    let mut lz = Lanczos::new(
+        n,
+        BLOCK.min(n),
+        max_basis,
+        empty.as_ref(),
+        empty.as_ref(),
+        11,
+    );
+    lz.start(k);
+    loop {
+        let more = lz.step(&op, k);
+        let (nu, res, _) = lz.ritz()?;
+        let top = nu.len() - 1;
+        if res[top] <= RESIDUAL_TOL * nu[top].abs() && nu[top] > 1.0 {
+            return Ok(Some(sigma * nu[top] / (nu[top] - 1.0)));
+        }
+        if !more {
+            return Err(ModalError::NoConvergence(format!(
+                "buckling: shift-invert Lanczos at σ = {sigma:e} did not converge within {max_basis} vectors"
+            ))
+            .into());
+        }
+    }
+}
+
+/// An eigenpair (λ, φ).
+pub type Pair = (f64, Vec<f64>);
+
+/// Ritz values θ, their residual norms, and the eigenvectors of the projected matrix.
+type Ritz = (Vec<f64>, Vec<f64>, Mat<f64>);
+
+/// What the sparse eigen-solve did, for reports and benchmarks.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct SparseStats {
+    /// Shift (rad²/s²) and negative-pivot count of the final Sturm check.
+    pub sturm_sigma: f64,
+    pub sturm_count: usize,
+    /// The count at (2π·fmax)², when `fmax_hz` was given.
+    pub fmax_count: Option<usize>,
+    pub factorizations: usize,
+    pub slices: usize,
+    pub lanczos_vectors: usize,
+    pub restarts: usize,
+    /// Largest ‖Kφ − λMφ‖₂ / ((‖K‖₁ + |λ|·‖M‖₁)·‖φ‖₂) over the returned modes.
+    pub max_backward_error: f64,
+    /// Values of the factor L, per factorization.
+    pub factor_nnz: usize,
+}
+
+/// The completeness proof: `expected` modes lie below `fmax_hz` by the Sturm count, `found`
+/// were returned. Anything but equality is an error.
+pub fn sturm_check(expected: usize, found: usize, fmax_hz: f64) -> Result<(), ModalError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(ModalError::SturmMismatch {
+            expected,
+            found,
+            fmax_hz,
+        })
+    }
+}
+
+/// Eigenpairs (λ ascending, φ mass-normalised) of K·φ = λ·M·φ: every mode below
+/// (2π·fmax_hz)² and/or the lowest `modes`, proven complete by a Sturm count.
+pub fn eigen(
+    k: &SymCsc,
+    m: &SymCsc,
+    fmax_hz: Option<f64>,
+    modes: Option<usize>,
+) -> Result<(Vec<Pair>, SparseStats), SparseError> {
+    // The operator forms of faer products (`A * B`) follow the global setting: sequential,
+    // as in the dense path, for thread-count-independent results.
+    faer::set_global_parallelism(Par::Seq);
+    let n = k.n;
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let pencil = Pencil::new(k, Some(m))?;
+    let mut stats = SparseStats {
+        factor_nnz: pencil.factor_len(),
+        ..Default::default()
+    };
+    let want_modes = modes.map(|x| x.min(n));
+    if want_modes == Some(0) {
+        return Ok((Vec::new(), stats));
+    }
+    // Sturm count at the top of the band.
+    let mut top: Option<Factor<'_>> = None;
+    if let Some(f) = fmax_hz {
+        let lmax = (two_pi * f).powi(2);
+        let fac = factor_away_from_eigenvalue(&pencil, lmax, &mut stats)?;
+        stats.fmax_count = Some(fac.negative);
+        top = Some(fac);
+    }
+    let target = match (&top, want_modes) {
+        (Some(t), Some(w)) => t.negative.min(w),
+        (Some(t), None) => t.negative,
+        (None, Some(w)) => w,
+        (None, None) => {
+            return Err(ModalError::Invalid(
+                "the sparse solver needs [modal] fmax_hz or modes".into(),
+            )
+            .into());
+        }
+    };
+    if target == 0 {
+        let t = top.expect("target 0 without fmax means modes = 0, handled above");
+        stats.sturm_sigma = t.sigma;
+        stats.sturm_count = 0;
+        return Ok((Vec::new(), stats));
+    }
+
+    // A shift below the whole spectrum: a small fraction of a typical K_ii/M_ii (the Rayleigh
+    // quotient of a unit vector, so of the order of the spectrum), pushed down until the
+    // count is 0 (negative eigenvalues exist when the prestress exceeds the buckling load).
+    let dk = &pencil.diag_k;
+    let dm = &pencil.diag_m;
+    let mut ratios: Vec<f64> = (0..n)
+        .filter(|&i| dk[i] > 0.0 && dm[i] > 0.0)
+        .map(|i| dk[i] / dm[i])
+        .collect();
+    ratios.sort_by(f64::total_cmp);
+    let mut s = ratios.get(ratios.len() / 2).copied().unwrap_or(1.0);
+    if let Some(t) = &top {
+        s = s.min(t.sigma);
+    }
+    s *= 1e-6;
+    let mut low = None;
+    for _ in 0..12 {
+        let fac = factor_away_from_eigenvalue(&pencil, -s, &mut stats)?;
+        if fac.negative == 0 {
+            low = Some(fac);
+            break;
+        }
+        s *= 100.0;
+    }
+    let low = low.ok_or_else(|| {
+        ModalError::NoConvergence(format!(
+            "no shift below the spectrum found down to σ = {:e} rad²/s²",
+            -s
+        ))
+    })?;
+    let top_pair = top.as_ref().map(|t| (t.sigma, t.negative));
+    let (mut a, mut c_a) = (low.sigma, 0usize);
+    drop(low);
+    // The first shift sits at the bottom edge; later ones inside their slice.
+    let mut width = 0.0;
+    let mut accepted: Vec<(f64, Vec<f64>)> = Vec::new();
+    let mut prev = Mat::<f64>::zeros(n, 0);
+    let mut seed = 1u64;
+    loop {
+        stats.slices += 1;
+        let out = run_slice(
+            m,
+            &pencil,
+            (a, c_a),
+            width,
+            &prev,
+            top_pair,
+            target.saturating_sub(c_a),
+            &mut stats,
+            &mut seed,
+        )?;
+        let found = out.pairs.len();
+        prev = Mat::<f64>::from_fn(n, found, |i, j| out.pairs[j].1[i]);
+        accepted.extend(out.pairs);
+        // Aim the next shift at about half a slice of modes above the new edge.
+        let ratio = (SLICE_MODES as f64 / found.max(1) as f64).clamp(0.25, 4.0);
+        width = 0.5 * (out.b - a).max(0.0) * ratio;
+        a = out.b;
+        c_a = out.c_b;
+        stats.sturm_sigma = out.b;
+        stats.sturm_count = out.c_b;
+        if c_a >= target || top_pair.is_some_and(|(ts, _)| out.b >= ts) {
+            break;
+        }
+    }
+    // Each slice matched its own count; the whole band is checked once more here.
+    if let (Some(f), Some(count)) = (fmax_hz, stats.fmax_count) {
+        let lmax = top
+            .as_ref()
+            .map(|t| t.sigma)
+            .unwrap_or((two_pi * f).powi(2));
+        let below = accepted.iter().filter(|p| p.0 < lmax).count();
+        sturm_check(count, below, f)?;
+    }
+    accepted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    accepted.truncate(target);
+    // Mass normalisation and the true residuals.
+    let (nk, nm) = (k.norm1(), m.norm1());
+    let mut worst = 0.0f64;
+    for (lambda, phi) in accepted.iter_mut() {
+        let x = Mat::<f64>::from_fn(n, 1, |i, _| phi[i]);
+        let mx = m.mul(x.as_ref());
+        let kx = k.mul(x.as_ref());
+        let mass: f64 = (0..n).map(|i| phi[i] * mx[(i, 0)]).sum();
+        let scale = 1.0 / mass.sqrt();
+        let mut r2 = 0.0;
+        let mut p2 = 0.0;
+        for i in 0..n {
+            let r = kx[(i, 0)] - *lambda * mx[(i, 0)];
+            r2 += r * r;
+            p2 += phi[i] * phi[i];
+            phi[i] *= scale;
+        }
+        let be = r2.sqrt() / ((nk + lambda.abs() * nm) * p2.sqrt());
+        worst = worst.max(be);
+    }
+    stats.max_backward_error = worst;
+    Ok((accepted, stats))
+}
+
+/// Factors K − σM, nudging σ upwards by a tiny relative step while it sits (numerically) on
+/// an eigenvalue, so that the count is unambiguous.
+fn factor_away_from_eigenvalue<'a>(
+    pencil: &'a Pencil,
+    sigma: f64,
+    stats: &mut SparseStats,
+) -> Result<Factor<'a>, SparseError> {
+    let mut s = sigma;
+    for _ in 0..8 {
+        stats.factorizations += 1;
+        match pencil.factor(s) {
+            Ok(f) if f.min_relative_pivot() > 1e-13 => return Ok(f),
+            Ok(_) | Err(SparseError::NotPositiveDefinite { .. }) => {
+                s += 1e-9 * s.abs().max(f64::MIN_POSITIVE);
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Err(
+        ModalError::NoConvergence(format!("K − σM stays singular near σ = {sigma:e} rad²/s²"))
+            .into(),
+    )
+}
+
+struct SliceOut {
+    /// The slice's eigenpairs: every eigenvalue in [a, b).
+    pairs: Vec<(f64, Vec<f64>)>,
+    /// Upper edge and its Sturm count.
+    b: f64,
+    c_b: usize,
+}
+
+/// One spectrum slice above the edge a (count c(a), everything below found): Lanczos at a
+/// shift s = a + width (counted too), so that eigenvalues on both sides of s converge; the
+/// slice is complete when every eigenvalue of [a, s) and an unbroken run above s have
+/// converged and the count at the new edge b matches.
+#[allow(clippy::too_many_arguments)]
+fn run_slice(
+    m: &SymCsc,
+    pencil: &Pencil,
+    (a, c_a): (f64, usize),
+    width: f64,
+    prev: &Mat<f64>,
+    top: Option<(f64, usize)>,
+    remaining: usize,
+    stats: &mut SparseStats,
+    seed: &mut u64,
+) -> Result<SliceOut, SparseError> {
+    let n = m.n;
+    let hz = |l: f64| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
+    let mismatch = |expected: usize, found: usize, at: f64| -> SparseError {
+        ModalError::SturmMismatch {
+            expected,
+            found,
+            fmax_hz: hz(at),
+        }
+        .into()
+    };
+    // The shift, pulled back toward a while [a, s) holds more than a slice.
+    let mut s = a + width;
+    if let Some((ts, _)) = top {
+        s = s.min(ts);
+    }
+    let mut fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
+    for _ in 0..20 {
+        if fac_s.negative <= c_a + SLICE_MODES || fac_s.sigma <= a {
+            break;
+        }
+        s = a + 0.5 * (fac_s.sigma - a);
+        fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
+    }
+    let s = fac_s.sigma;
+    let c_s = fac_s.negative;
+    if c_s < c_a {
+        return Err(mismatch(c_a, c_s, s));
+    }
+    // Locked vectors: the previous slice's (the nearest below a) plus those converged here
+    // before a restart.
+    let mut locked = prev.clone();
+    let mut in_slice: Vec<(f64, Vec<f64>)> = Vec::new();
+    // The upper edge b once chosen: (b, c(b)).
+    let mut edge: Option<(f64, usize)> = None;
+    // A block of p random vectors brings at most p copies of a repeated eigenvalue into the
+    // Krylov space: after a restart the block grows to the number still missing.
+    let mut block = BLOCK;
+    // After a restart the Lanczos shift moves next to the eigenvalues still missing (often a
+    // cluster of repeated local modes far from s); s stays the counted partition point.
+    let mut restart_fac: Option<Factor<'_>> = None;
+    for restart in 0..MAX_RESTARTS {
+        let cur = restart_fac.as_ref().unwrap_or(&fac_s);
+        let sh = cur.sigma;
+        let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
+            let mut w = bv.to_owned();
+            cur.solve(w.as_mut());
+            w
+        };
+        if restart > 0 {
+            stats.restarts += 1;
+        }
+        let room = n.saturating_sub(locked.ncols());
+        if room == 0 {
+            break;
+        }
+        let p = block.min(room);
+        let max_basis = (MAX_BASIS.min(room) / p).max(1) * p;
+        let ml = m.mul(locked.as_ref());
+        *seed += 1;
+        let mut lz = Lanczos::new(n, p, max_basis, locked.as_ref(), ml.as_ref(), *seed);
+        lz.start(m);
+        stats.lanczos_vectors += p;
+        let check_from = (SLICE_MODES.min(remaining) * 3 / 2).max(2 * p);
+        let mut since_check = 0usize;
+        loop {
+            let more = lz.step(&op, m);
+            stats.lanczos_vectors += p;
+            since_check += 1;
+            if more && (lz.blocks() * p < check_from || since_check < 3) {
+                continue;
+            }
+            since_check = 0;
+            let (theta, res, vecs) = lz.ritz()?;
+            // Ritz values of OP as eigenvalues λ = s + 1/θ at or above a, ascending, with
+            // their convergence flag and column.
+            let mut ritz: Vec<(f64, bool, usize)> = theta
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| **t != 0.0)
+                .map(|(i, &t)| {
+                    let l = sh + 1.0 / t;
+                    (
+                        l,
+                        res[i] / (t * t) <= RESIDUAL_TOL * l.abs().max(sh.abs()),
+                        i,
+                    )
+                })
+                .filter(|x| x.0 >= a)
+                .collect();
+            ritz.sort_by(|x, y| x.0.total_cmp(&y.0));
+            let conv_below = |lim: f64| -> Vec<usize> {
+                ritz.iter()
+                    .filter(|x| x.1 && x.0 < lim)
+                    .map(|x| x.2)
+                    .collect()
+            };
+            // The whole rest of the band converged?
+            if let Some((ts, tc)) = top {
+                let idx = conv_below(ts);
+                let total = c_a + count_below(&in_slice, ts) + idx.len();
+                if total == tc {
+                    in_slice.extend(lz.vectors(&vecs, &idx, &theta, sh));
+                    in_slice.retain(|x| x.0 < ts);
+                    in_slice.sort_by(|x, y| x.0.total_cmp(&y.0));
+                    return Ok(SliceOut {
+                        pairs: in_slice,
+                        b: ts,
+                        c_b: tc,
+                    });
+                }
+                if total > tc {
+                    return Err(mismatch(tc, total, ts));
+                }
+            }
+            let below_have = count_below(&in_slice, s) + conv_below(s).len();
+            if below_have > c_s - c_a {
+                return Err(mismatch(c_s, c_a + below_have, s));
+            }
+            if edge.is_none() && below_have == c_s - c_a {
+                // Everything in [a, s) converged: extend the slice over the unbroken run
+                // of converged eigenvalues above s.
+                let above: Vec<(f64, bool, usize)> =
+                    ritz.iter().copied().filter(|x| x.0 > s).collect();
+                let run_end = unbroken_run(&above);
+                let converged = run_end
+                    .map(|e| above[..=e].iter().filter(|x| x.1).count())
+                    .unwrap_or(0);
+                let enough = below_have + converged >= SLICE_MODES.min(remaining);
+                if enough || !more {
+                    let b = match run_end {
+                        None => s,
+                        Some(e) => {
+                            let last = above[e].0;
+                            match above[e + 1..]
+                                .iter()
+                                .find(|x| x.0 > last + 1e-8 * last.abs())
+                            {
+                                Some(x) => 0.5 * (last + x.0),
+                                None => last + 0.5 * (last - s).abs().max(1e-9 * last.abs()),
+                            }
+                        }
+                    };
+                    if b == s {
+                        edge = Some((s, c_s));
+                    } else if top.is_none_or(|(ts, _)| b < ts) {
+                        let fac_b = factor_away_from_eigenvalue(pencil, b, stats)?;
+                        edge = Some((fac_b.sigma, fac_b.negative));
+                    }
+                }
+            }
+            if let Some((b, c_b)) = edge {
+                let need = c_b.checked_sub(c_a).ok_or_else(|| mismatch(c_b, c_a, b))?;
+                let idx = conv_below(b);
+                let have = count_below(&in_slice, b) + idx.len();
+                if have == need {
+                    in_slice.extend(lz.vectors(&vecs, &idx, &theta, sh));
+                    in_slice.retain(|x| x.0 < b);
+                    in_slice.sort_by(|x, y| x.0.total_cmp(&y.0));
+                    return Ok(SliceOut {
+                        pairs: in_slice,
+                        b,
+                        c_b,
+                    });
+                }
+                if have > need {
+                    return Err(mismatch(c_b, c_a + have, b));
+                }
+            }
+            let upper = edge.map(|e| e.0).unwrap_or(s);
+            // A restart aimed at missing copies has done its job once about a block's worth
+            // of them converged: lock them and aim again rather than fill the basis.
+            let harvested = restart > 0 && conv_below(upper).len() + 2 >= p;
+            if more && !harvested {
+                continue;
+            }
+            // Basis full (or harvest done): lock what converged below the edge (or below s)
+            // and restart for the missing ones.
+            let got = lz.vectors(&vecs, &conv_below(upper), &theta, sh);
+            // The next shift: at the unconverged Ritz value in [a, upper) closest to
+            // convergence (relative eigenvalue-error bound), i.e. where the missing ones are.
+            let target = ritz
+                .iter()
+                .filter(|x| !x.1 && x.0 < upper)
+                .map(|x| {
+                    let t = theta[x.2];
+                    (x.0, res[x.2] / (t * t) / x.0.abs().max(sh.abs()))
+                })
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .map(|x| x.0)
+                // Ritz values over-estimate: a cluster just below the edge may show all its
+                // unconverged values above it. Then aim just below the edge.
+                .or(Some(upper));
+            let q0 = locked.ncols();
+            let mut nl = Mat::<f64>::zeros(n, q0 + got.len());
+            nl.as_mut().subcols_mut(0, q0).copy_from(locked.as_ref());
+            for (j, (_, v)) in got.iter().enumerate() {
+                for i in 0..n {
+                    nl[(i, q0 + j)] = v[i];
+                }
+            }
+            locked = nl;
+            in_slice.extend(got);
+            let need = edge.map(|e| e.1).unwrap_or(c_s) - c_a;
+            let missing = need.saturating_sub(count_below(&in_slice, upper));
+            // At most a fifth of the basis, so that a run still takes five block steps.
+            block = (missing + 2).clamp(BLOCK, (MAX_BASIS / 5).max(BLOCK));
+            let next = match target {
+                Some(l) => Some(factor_away_from_eigenvalue(
+                    pencil,
+                    l - 1e-4 * l.abs().max(f64::MIN_POSITIVE),
+                    stats,
+                )?),
+                None => None,
+            };
+            restart_fac = next;
+            break;
+        }
+    }
+    Err(ModalError::NoConvergence(format!(
+        "shift-invert Lanczos at σ = {s:e} rad²/s²: the slice above {a:e} did not complete after {MAX_RESTARTS} restarts"
+    ))
+    .into())
+}
+
+/// B-orthonormalisation of a block by Cholesky QR, twice (CholQR2: matrix–matrix work instead
+/// of the column-by-column Gram–Schmidt). `None` when the block is too close to rank
+/// deficient for it (a relative Cholesky pivot under 1e-10), and the caller falls back.
+fn chol_qr2(u: &Mat<f64>, bu: &Mat<f64>) -> Option<(Mat<f64>, Mat<f64>, Mat<f64>)> {
+    use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+    let p = u.ncols();
+    let mut u = u.clone();
+    let mut bu = bu.clone();
+    let mut r = Mat::<f64>::identity(p, p);
+    for _ in 0..2 {
+        let g0 = u.transpose() * &bu;
+        let g = Mat::<f64>::from_fn(p, p, |i, j| 0.5 * (g0[(i, j)] + g0[(j, i)]));
+        let l = g.llt(Side::Lower).ok()?.L().to_owned();
+        for i in 0..p {
+            // NaN fails this too.
+            let ok = l[(i, i)] * l[(i, i)] > 1e-10 * g[(i, i)];
+            if !ok {
+                return None;
+            }
+        }
+        // U ← U·L⁻ᵀ, i.e. Uᵀ ← L⁻¹·Uᵀ.
+        let mut ut = u.transpose().to_owned();
+        solve_lower_triangular_in_place(l.as_ref(), ut.as_mut(), Par::Seq);
+        u = ut.transpose().to_owned();
+        let mut but = bu.transpose().to_owned();
+        solve_lower_triangular_in_place(l.as_ref(), but.as_mut(), Par::Seq);
+        bu = but.transpose().to_owned();
+        r = l.transpose() * &r;
+    }
+    Some((u, bu, r))
+}
+
+fn col_vec(m: &Mat<f64>, c: usize) -> Vec<f64> {
+    col_vec_ref(m.as_ref(), c)
+}
+
+fn col_vec_ref(m: MatRef<'_, f64>, c: usize) -> Vec<f64> {
+    (0..m.nrows()).map(|i| m[(i, c)]).collect()
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
+    y.iter_mut().zip(x).for_each(|(y, x)| *y += alpha * x);
+}
+
+fn count_below(pairs: &[(f64, Vec<f64>)], lim: f64) -> usize {
+    pairs.iter().filter(|x| x.0 < lim).count()
+}
+
+/// Index (into `above`, sorted by λ) of the last converged Ritz value of the unbroken run of
+/// converged values from the bottom. An unconverged value that repeats a converged one to
+/// 1e-8 (a further copy of a multiple eigenvalue entering the basis) does not break the run:
+/// the Sturm count at the edge will say whether copies are missing.
+fn unbroken_run(above: &[(f64, bool, usize)]) -> Option<usize> {
+    let mut end = None;
+    for (i, x) in above.iter().enumerate() {
+        if x.1 {
+            end = Some(i);
+            continue;
+        }
+        let near = |y: &&(f64, bool, usize)| (y.0 - x.0).abs() <= 1e-8 * x.0.abs();
+        let dup = above[..i].iter().rev().take_while(near).any(|y| y.1)
+            || above[i + 1..].iter().take_while(near).any(|y| y.1);
+        if !dup {
+            break;
+        }
+    }
+    end
+}
+
+/// Block Lanczos with full re-orthogonalisation in the B-inner product, deflated against a
+/// locked B-orthonormal set X. `op(V, B·V)` applies the operator to a block.
+struct Lanczos<'x> {
+    n: usize,
+    p: usize,
+    max_basis: usize,
+    /// B-orthonormal basis.
+    v: Mat<f64>,
+    bv: Mat<f64>,
+    /// Columns of V filled (including the pending block).
+    filled: usize,
+    /// Blocks whose diagonal coefficient is in T.
+    nb: usize,
+    t: Mat<f64>,
+    /// Coupling of the last block of T to the pending one (the residual block).
+    r: Mat<f64>,
+    x: MatRef<'x, f64>,
+    bx: MatRef<'x, f64>,
+    rng: ChaCha8Rng,
+    exhausted: bool,
+}
+
+impl<'x> Lanczos<'x> {
+    fn new(
+        n: usize,
+        p: usize,
+        max_basis: usize,
+        x: MatRef<'x, f64>,
+        bx: MatRef<'x, f64>,
+        seed: u64,
+    ) -> Self {
+        Lanczos {
+            n,
+            p,
+            max_basis,
+            v: Mat::zeros(n, max_basis),
+            bv: Mat::zeros(n, max_basis),
+            filled: 0,
+            nb: 0,
+            t: Mat::zeros(max_basis, max_basis),
+            r: Mat::zeros(p, p),
+            x,
+            bx,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            exhausted: false,
+        }
+    }
+
+    fn blocks(&self) -> usize {
+        self.nb
+    }
+
+    /// Removes the X and V components of the columns of `u`, twice.
+    fn orthogonalize(&self, mut u: MatMut<'_, f64>, upto: usize) -> Mat<f64> {
+        let mut coef = Mat::<f64>::zeros(upto, u.ncols());
+        for _ in 0..2 {
+            if self.x.ncols() > 0 {
+                let c = self.bx.transpose() * u.as_ref();
+                matmul(u.as_mut(), Accum::Add, self.x, c.as_ref(), -1.0, Par::Seq);
+            }
+            if upto > 0 {
+                let vv = self.v.as_ref().subcols(0, upto);
+                let bvv = self.bv.as_ref().subcols(0, upto);
+                let c = bvv.transpose() * u.as_ref();
+                matmul(u.as_mut(), Accum::Add, vv, c.as_ref(), -1.0, Par::Seq);
+                coef += &c;
+            }
+        }
+        coef
+    }
+
+    /// B-orthonormalises the block `u` (already orthogonal to X and V) in place; returns
+    /// R with U_in = U_out·R, the new B·U, and whether the space is exhausted. A column that
+    /// vanishes (an invariant subspace) is replaced by a random vector with a zero column in R.
+    fn normalize(
+        &mut self,
+        u: Mat<f64>,
+        b: &SymCsc,
+        upto: usize,
+    ) -> (Mat<f64>, Mat<f64>, Mat<f64>, bool) {
+        let p = u.ncols();
+        let n = self.n;
+        let bu_m = b.mul(u.as_ref());
+        if let Some((u, bu, r)) = chol_qr2(&u, &bu_m) {
+            return (u, bu, r, false);
+        }
+        let mut r = Mat::<f64>::zeros(p, p);
+        let mut uc: Vec<Vec<f64>> = (0..p).map(|c| col_vec(&u, c)).collect();
+        let mut bc: Vec<Vec<f64>> = (0..p).map(|c| col_vec(&bu_m, c)).collect();
+        let scale = (0..p)
+            .map(|c| dot(&uc[c], &bc[c]).max(0.0).sqrt())
+            .fold(0.0, f64::max);
+        let mut exhausted = false;
+        for c in 0..p {
+            let (done_u, rest_u) = uc.split_at_mut(c);
+            let (done_b, rest_b) = bc.split_at_mut(c);
+            let (uc_c, bc_c) = (&mut rest_u[0], &mut rest_b[0]);
+            for _ in 0..2 {
+                for d in 0..c {
+                    let h = dot(&done_b[d], uc_c);
+                    axpy(-h, &done_u[d], uc_c);
+                    axpy(-h, &done_b[d], bc_c);
+                    r[(d, c)] += h;
+                }
+            }
+            let norm = dot(uc_c, bc_c).max(0.0).sqrt();
+            if norm > 1e-10 * scale.max(f64::MIN_POSITIVE) && norm > 0.0 {
+                r[(c, c)] = norm;
+                uc_c.iter_mut().for_each(|x| *x /= norm);
+                bc_c.iter_mut().for_each(|x| *x /= norm);
+                continue;
+            }
+            // Breakdown: a fresh random direction, orthogonal to everything so far; r[(c, c)]
+            // stays 0, as this column carries no Krylov coupling.
+            let mut w = Mat::<f64>::from_fn(n, 1, |_, _| self.rng.random::<f64>() - 0.5);
+            let w0 = {
+                let bw = b.mul(w.as_ref());
+                dot(&col_vec(&w, 0), &col_vec(&bw, 0)).max(0.0).sqrt()
+            };
+            let _ = self.orthogonalize(w.as_mut(), upto);
+            let mut wv = col_vec(&w, 0);
+            for _ in 0..2 {
+                for d in 0..c {
+                    let h = dot(&done_b[d], &wv);
+                    axpy(-h, &done_u[d], &mut wv);
+                }
+            }
+            let wm = Mat::<f64>::from_fn(n, 1, |i, _| wv[i]);
+            let bw = col_vec(&b.mul(wm.as_ref()), 0);
+            let norm = dot(&wv, &bw).max(0.0).sqrt();
+            // What is left of a random vector is round-off once the space is spanned.
+            if norm > 1e-8 * w0 {
+                *uc_c = wv.iter().map(|x| x / norm).collect();
+                *bc_c = bw.iter().map(|x| x / norm).collect();
+            } else {
+                exhausted = true;
+                uc_c.iter_mut().for_each(|x| *x = 0.0);
+                bc_c.iter_mut().for_each(|x| *x = 0.0);
+            }
+        }
+        let u = Mat::<f64>::from_fn(n, p, |i, c| uc[c][i]);
+        let bu = Mat::<f64>::from_fn(n, p, |i, c| bc[c][i]);
+        (u, bu, r, exhausted)
+    }
+
+    /// A random B-orthonormal start block, deflated against X.
+    fn start(&mut self, b: &SymCsc) {
+        let (n, p) = (self.n, self.p);
+        let mut u = Mat::<f64>::from_fn(n, p, |_, _| self.rng.random::<f64>() - 0.5);
+        let _ = self.orthogonalize(u.as_mut(), 0);
+        let (u, bu, _, ex) = self.normalize(u, b, 0);
+        self.v.as_mut().subcols_mut(0, p).copy_from(u.as_ref());
+        self.bv.as_mut().subcols_mut(0, p).copy_from(bu.as_ref());
+        self.filled = p;
+        self.exhausted = ex;
+    }
+
+    /// One block step. Returns false when no further step is possible (basis full or the
+    /// space exhausted); T and the residual block are valid either way.
+    fn step(
+        &mut self,
+        op: &impl Fn(MatRef<'_, f64>, MatRef<'_, f64>) -> Mat<f64>,
+        b: &SymCsc,
+    ) -> bool {
+        let p = self.p;
+        let j0 = self.nb * p;
+        debug_assert_eq!(self.filled, j0 + p);
+        let mut u = op(
+            self.v.as_ref().subcols(j0, p),
+            self.bv.as_ref().subcols(j0, p),
+        );
+        let coef = self.orthogonalize(u.as_mut(), self.filled);
+        // Diagonal block, symmetrised.
+        for i in 0..p {
+            for c in 0..p {
+                self.t[(j0 + i, j0 + c)] = 0.5 * (coef[(j0 + i, c)] + coef[(j0 + c, i)]);
+            }
+        }
+        self.nb += 1;
+        let (u, bu, r, ex) = self.normalize(u, b, self.filled);
+        self.r = r;
+        self.exhausted |= ex;
+        let j1 = j0 + p;
+        if self.exhausted || j1 + p > self.max_basis {
+            return false;
+        }
+        self.v.as_mut().subcols_mut(j1, p).copy_from(u.as_ref());
+        self.bv.as_mut().subcols_mut(j1, p).copy_from(bu.as_ref());
+        self.filled = j1 + p;
+        for i in 0..p {
+            for c in 0..p {
+                self.t[(j1 + i, j0 + c)] = self.r[(i, c)];
+                self.t[(j0 + c, j1 + i)] = self.r[(i, c)];
+            }
+        }
+        true
+    }
+
+    /// Ritz values θ (ascending) of the current T, their residual norms ‖OP·y − θ·y‖_B, and
+    /// the eigenvectors of T.
+    fn ritz(&self) -> Result<Ritz, SparseError> {
+        let (p, m) = (self.p, self.nb * self.p);
+        let t = self.t.as_ref().submatrix(0, 0, m, m).to_owned();
+        let (theta, s) = super::dense::sym_eigen_pub(&t)
+            .map_err(|_| ModalError::NoConvergence("projected Lanczos matrix".into()))?;
+        let res = (0..m)
+            .map(|c| {
+                let mut acc = 0.0;
+                for i in 0..p {
+                    let mut x = 0.0;
+                    for l in 0..p {
+                        x += self.r[(i, l)] * s[(m - p + l, c)];
+                    }
+                    acc += x * x;
+                }
+                acc.sqrt()
+            })
+            .collect();
+        Ok((theta, res, s))
+    }
+
+    /// Ritz vectors for the chosen columns of S, as (λ = σ + 1/θ, φ).
+    fn vectors(
+        &self,
+        s: &Mat<f64>,
+        idx: &[usize],
+        theta: &[f64],
+        sigma: f64,
+    ) -> Vec<(f64, Vec<f64>)> {
+        let m = self.nb * self.p;
+        let sel = Mat::<f64>::from_fn(m, idx.len(), |i, j| s[(i, idx[j])]);
+        let mut y = Mat::<f64>::zeros(self.n, idx.len());
+        matmul(
+            y.as_mut(),
+            Accum::Replace,
+            self.v.as_ref().subcols(0, m),
+            sel.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        idx.iter()
+            .enumerate()
+            .map(|(j, &c)| {
+                (
+                    sigma + 1.0 / theta[c],
+                    (0..self.n).map(|i| y[(i, j)]).collect(),
+                )
+            })
+            .collect()
+    }
+}
