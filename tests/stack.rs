@@ -120,9 +120,9 @@ fn bar_share(model: &satqual::fem::FeModel, sys: &ModalSystem, mode: usize) -> f
     let mut bar = 0.0;
     for (r, &full) in sys.reduction.red_to_full.iter().enumerate() {
         let node = &model.nodes[full / 6];
-        // Scene nodes of the bars have ids ≥ 100000; the nodes inside a subdivided bar
+        // Scene nodes of the bars have ids ≥ 10000000; the nodes inside a subdivided bar
         // segment are labelled after their member, "bar c segment j".
-        if node.id.is_some_and(|id| id >= 100_000) || node.label.starts_with("bar ") {
+        if node.id.is_some_and(|id| id >= 10_000_000) || node.label.starts_with("bar ") {
             bar += shape[r] * mphi[r];
         }
     }

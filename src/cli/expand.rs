@@ -17,7 +17,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let body = toml::to_string(&scene.model)
         .map_err(|e| Error::Other(format!("cannot write the expanded model: {e}")))?;
     let header = format!(
-        "# Generic model expanded by satqual {} from {}.\n# Node ids: satellite i = 1000·i; its column c bottom/mid/top = 1000·i + 10·c + 1/2/3;\n# platform under column c = 10·c; guide bar c level j = 100000·c + 10 + j (root 100000·c).\n\n",
+        "# Generic model expanded by satqual {} from {}.\n# Node ids: satellite i = 1000·i; its column c bottom/mid/top = 1000·i + 10·c + 1/2/3;\n# platform under column c = 10·c; guide bar c level j = 10000000·c + 10 + j (root 10000000·c).\n\n",
         env!("CARGO_PKG_VERSION"),
         args.scene.display()
     );

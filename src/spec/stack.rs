@@ -115,8 +115,8 @@ use crate::error::SpecError;
 /// Node-id scheme of the expansion (documented so that users can name response points):
 /// satellite i's rigid body `1000·i`; its column c (1–4) bottom, mid-height and top
 /// `1000·i + 10·c + 1/2/3`; the carrier-platform point under column c `10·c`; guide bar c at
-/// level j (0 = bottom of the lowest satellite, N = top of the stack) `100000·c + 10 + j`, its
-/// root `100000·c` and its free tip above the compression device `100000·c + 9999`.
+/// level j (0 = bottom of the lowest satellite, N = top of the stack) `10000000·c + 10 + j`, its
+/// root `10000000·c` and its free tip above the compression device `10000000·c + 9999` (ids far above any satellite's, so stacks of up to 9999 satellites never collide).
 pub mod ids {
     pub fn satellite(i: usize) -> i64 {
         1000 * i as i64
@@ -128,13 +128,13 @@ pub mod ids {
         10 * c as i64
     }
     pub fn bar(c: usize, level: usize) -> i64 {
-        100_000 * c as i64 + 10 + level as i64
+        10_000_000 * c as i64 + 10 + level as i64
     }
     pub fn bar_root(c: usize) -> i64 {
-        100_000 * c as i64
+        10_000_000 * c as i64
     }
     pub fn bar_tip(c: usize) -> i64 {
-        100_000 * c as i64 + 9999
+        10_000_000 * c as i64 + 9999
     }
 }
 
