@@ -68,12 +68,32 @@ fn range(series: &[Series], pick: impl Fn(&(f64, f64)) -> f64, scale: Scale) -> 
     }
 }
 
+/// A point to annotate on a plot: a circle and its label.
+pub struct Marker {
+    pub x: f64,
+    pub y: f64,
+    pub label: String,
+}
+
 /// A line plot with the chosen axis scales; returns the SVG document.
 pub fn lines_svg(
     title: &str,
     x_label: &str,
     y_label: &str,
     series: &[Series],
+    x_scale: Scale,
+    y_scale: Scale,
+) -> Result<String, Error> {
+    lines_markers_svg(title, x_label, y_label, series, &[], x_scale, y_scale)
+}
+
+/// A line plot with annotated points (e.g. the peaks of a sine response).
+pub fn lines_markers_svg(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    markers: &[Marker],
     x_scale: Scale,
     y_scale: Scale,
 ) -> Result<String, Error> {
@@ -118,6 +138,22 @@ pub fn lines_svg(
                             PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
                         });
                 }
+                chart
+                    .draw_series(
+                        markers
+                            .iter()
+                            .filter(|m| m.x.is_finite() && m.y.is_finite())
+                            .map(|m| {
+                                EmptyElement::at((m.x, m.y))
+                                    + Circle::new((0, 0), 4, BLACK.stroke_width(1))
+                                    + Text::new(
+                                        m.label.clone(),
+                                        (6, -12),
+                                        ("sans-serif", 12).into_font(),
+                                    )
+                            }),
+                    )
+                    .map_err(plot_err)?;
                 chart
                     .configure_series_labels()
                     .background_style(WHITE.mix(0.85))

@@ -4,7 +4,7 @@
 //! Input: a `pipeline::Qualification`. The whole folder is built under a temporary name and
 //! swapped in only when complete, so an existing report is never left half-replaced.
 
-use super::plot::{Scale, Series, lines_svg};
+use super::plot::{Marker, Scale, Series, lines_markers_svg, lines_svg};
 use crate::error::Error;
 use crate::pipeline::Qualification;
 use std::fmt::Write as _;
@@ -99,23 +99,56 @@ fn figures(q: &Qualification, files: &mut Files) -> Result<Vec<Figure>, Error> {
         });
     }
     if let Some(resp) = &q.response {
+        let sine_peaks = |a: &crate::response::sine::SineAxis| -> Vec<Marker> {
+            a.peaks
+                .iter()
+                .map(|p| Marker {
+                    x: p.frequency_hz,
+                    y: p.acceleration_g,
+                    label: format!(
+                        "{} {:.2} g @ {:.1} Hz",
+                        p.name, p.acceleration_g, p.frequency_hz
+                    ),
+                })
+                .collect()
+        };
+        let random_peaks = |a: &crate::response::random::RandomAxis| -> Vec<Marker> {
+            a.responses
+                .iter()
+                .map(|r| Marker {
+                    x: r.peak_psd_hz,
+                    y: r.peak_psd_g2_hz,
+                    label: format!("{} {:.2} Grms", r.name, r.grms),
+                })
+                .collect()
+        };
         for (kind, axes_curves) in [
             (
                 "sine",
                 resp.sine
                     .iter()
-                    .map(|a| (&a.axis, &a.curves))
+                    .map(|a| (&a.axis, &a.curves, sine_peaks(a)))
                     .collect::<Vec<_>>(),
             ),
             (
                 "random",
                 resp.random
                     .iter()
-                    .map(|a| (&a.axis, &a.curves))
+                    .map(|a| (&a.axis, &a.curves, random_peaks(a)))
                     .collect::<Vec<_>>(),
             ),
         ] {
-            for (axis, c) in axes_curves {
+            for (axis, c, mut markers) in axes_curves {
+                // Annotate the highest peak at up to three distinct frequencies: labels of
+                // points that peak together would overprint.
+                markers.sort_by(|a, b| b.y.total_cmp(&a.y));
+                let mut kept: Vec<Marker> = Vec::new();
+                for m in markers.drain(..) {
+                    if kept.len() < 3 && kept.iter().all(|k| (k.x / m.x).ln().abs() > 0.1) {
+                        kept.push(m);
+                    }
+                }
+                let markers = kept;
                 let input_name = if kind == "sine" {
                     "input_g"
                 } else {
@@ -180,11 +213,12 @@ fn figures(q: &Qualification, files: &mut Files) -> Result<Vec<Figure>, Error> {
                 figs.push(Figure {
                     stem: format!("{kind}_{axis}"),
                     caption: cap,
-                    svg: lines_svg(
+                    svg: lines_markers_svg(
                         &title,
                         "frequency [Hz]",
                         ylab,
                         &series,
+                        &markers,
                         Scale::Log,
                         Scale::Log,
                     )?,
@@ -264,6 +298,49 @@ fn figures(q: &Qualification, files: &mut Files) -> Result<Vec<Figure>, Error> {
                     svg: lines_svg(&format!("{}: PSD", log.name), "frequency [Hz]", "PSD [g²/Hz]", &ser, Scale::Log, Scale::Log)?,
                 });
             }
+        }
+    }
+    if let Some(mc) = q.separation.as_ref().and_then(|s| s.monte_carlo.as_ref()) {
+        for (stem, label, samples) in [
+            (
+                "mc_exit_speed",
+                "exit speed [m/s]",
+                &mc.samples_final_speed_m_s,
+            ),
+            (
+                "mc_tip_off_rate",
+                "tip-off rate [deg/s]",
+                &mc.samples_tip_off_rate_deg_s,
+            ),
+            (
+                "mc_min_clearance",
+                "minimum inter-satellite clearance [m]",
+                &mc.samples_min_clearance_m,
+            ),
+        ] {
+            files.push((
+                format!("curves/{stem}.csv"),
+                csv("sample", samples.iter().map(|v| vec![*v])),
+            ));
+            let steps = histogram_steps(samples, 20);
+            figs.push(Figure {
+                stem: stem.into(),
+                caption: format!(
+                    "Monte Carlo ({} runs, seed {}): histogram of the {label}",
+                    mc.runs, mc.seed
+                ),
+                svg: lines_svg(
+                    &format!("Monte Carlo: {label}"),
+                    label,
+                    "count",
+                    &[Series {
+                        label: format!("{} samples", samples.len()),
+                        points: &steps,
+                    }],
+                    Scale::Linear,
+                    Scale::Linear,
+                )?,
+            });
         }
     }
     if let Some(sep) = &q.separation
@@ -349,6 +426,33 @@ fn figures(q: &Qualification, files: &mut Files) -> Result<Vec<Figure>, Error> {
         });
     }
     Ok(figs)
+}
+
+/// A histogram as a step outline: `bins` equal bins between the sample extremes.
+fn histogram_steps(samples: &[f64], bins: usize) -> Vec<(f64, f64)> {
+    let finite: Vec<f64> = samples.iter().copied().filter(|v| v.is_finite()).collect();
+    if finite.is_empty() {
+        return Vec::new();
+    }
+    let lo = finite.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut hi = finite.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if hi <= lo {
+        hi = lo + 1e-12_f64.max(lo.abs() * 1e-9);
+    }
+    let w = (hi - lo) / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for v in finite {
+        let k = (((v - lo) / w) as usize).min(bins - 1);
+        counts[k] += 1;
+    }
+    let mut pts = vec![(lo, 0.0)];
+    for (k, c) in counts.iter().enumerate() {
+        let (a, b) = (lo + k as f64 * w, lo + (k + 1) as f64 * w);
+        pts.push((a, *c as f64));
+        pts.push((b, *c as f64));
+    }
+    pts.push((hi, 0.0));
+    pts
 }
 
 fn gate_rows(q: &Qualification) -> Vec<[String; 6]> {

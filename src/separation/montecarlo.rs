@@ -70,6 +70,11 @@ pub struct MonteCarloResult {
     pub min_clearance_m: Percentiles,
     /// Total integrator steps over all runs.
     pub steps: usize,
+    /// The samples behind the percentiles (exit speeds and tip-off rates of every satellite
+    /// and run, in run order; minimum clearance per run), for histograms.
+    pub samples_final_speed_m_s: Vec<f64>,
+    pub samples_tip_off_rate_deg_s: Vec<f64>,
+    pub samples_min_clearance_m: Vec<f64>,
 }
 
 struct Draw {
@@ -177,6 +182,9 @@ pub fn monte_carlo(
         tip_off_rate_deg_s: Percentiles::of(&all_rate),
         min_clearance_m: Percentiles::of(&clear),
         steps: results.iter().map(|r| r.stats.steps).sum(),
+        samples_final_speed_m_s: all_speed,
+        samples_tip_off_rate_deg_s: all_rate,
+        samples_min_clearance_m: clear,
     })
 }
 
