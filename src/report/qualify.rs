@@ -561,6 +561,45 @@ fn markdown(q: &Qualification, figs: &[Figure]) -> String {
                 }
             }
         }
+        // Joint loads: the envelope over the axes, per joint (sine peak, random 3σ).
+        type Load = (String, f64, f64, f64, f64);
+        let mut loads: Vec<Load> = Vec::new();
+        fn entry(loads: &mut Vec<Load>, name: &str) -> usize {
+            match loads.iter().position(|l| l.0 == name) {
+                Some(i) => i,
+                None => {
+                    loads.push((name.to_string(), 0.0, 0.0, 0.0, 0.0));
+                    loads.len() - 1
+                }
+            }
+        }
+        for a in &resp.sine {
+            for i in &a.interfaces {
+                let k = entry(&mut loads, &i.name);
+                loads[k].1 = loads[k].1.max(i.max_tension_n);
+                loads[k].2 = loads[k].2.max(i.max_shear_n);
+            }
+        }
+        for a in &resp.random {
+            for i in &a.interfaces {
+                let k = entry(&mut loads, &i.name);
+                loads[k].3 = loads[k].3.max(i.tension_3sigma_n);
+                loads[k].4 = loads[k].4.max(i.shear_3sigma_n);
+            }
+        }
+        if !loads.is_empty() {
+            let _ = writeln!(
+                s,
+                "\n## Joint loads (envelope over the axes)\n\n| joint | sine axial [N] | sine shear [N] | random 3σ axial [N] | random 3σ shear [N] |\n|---|---:|---:|---:|---:|"
+            );
+            for l in &loads {
+                let _ = writeln!(
+                    s,
+                    "| {} | {:.0} | {:.0} | {:.0} | {:.0} |",
+                    l.0, l.1, l.2, l.3, l.4
+                );
+            }
+        }
         if !resp.random.is_empty() {
             let _ = writeln!(
                 s,
