@@ -47,6 +47,17 @@ pub struct Prepared<'a> {
 }
 
 impl<'a> Prepared<'a> {
+    /// A/Z of a joint face when `[margins] include_face_moment` adds the face bending moment
+    /// to the gapping load (as an equivalent axial force), else 0: one place for the option
+    /// that both the sine and the random margins apply.
+    pub fn face_moment_factor(&self, i: &outputs::InterfaceOut) -> f64 {
+        if self.margins.include_face_moment {
+            i.face_a_over_z
+        } else {
+            0.0
+        }
+    }
+
     pub fn new(scene: &'a Scene, model: &'a FeModel, sys: &'a ModalSystem) -> Result<Self, Error> {
         let points = crate::spec::analysis::response_points(scene);
         let outputs = OutputSet::build(scene, model, sys, &points)?;

@@ -191,13 +191,6 @@ pub fn evaluate(
         curves.series.push((format!("{} [g2/Hz]", p.name), v));
     }
     let mut margin_list = Vec::new();
-    let face = |i: &super::outputs::InterfaceOut| {
-        if prep.margins.include_face_moment {
-            i.face_a_over_z
-        } else {
-            0.0
-        }
-    };
     let mut interfaces = Vec::new();
     for i in &o.interfaces {
         let r = i.rows;
@@ -213,7 +206,7 @@ pub fn evaluate(
         ));
         margin_list.extend(margins::interface(
             i,
-            3.0 * (tz + mo * face(i)),
+            3.0 * (tz + mo * prep.face_moment_factor(i)),
             3.0 * sh,
             &prep.margins,
             &case,

@@ -176,13 +176,6 @@ pub fn evaluate(
         curves.series.push((format!("{} [g]", p.name), v));
     }
     let mut ms = Vec::new();
-    let face = |i: &super::outputs::InterfaceOut| {
-        if prep.margins.include_face_moment {
-            i.face_a_over_z
-        } else {
-            0.0
-        }
-    };
     let mut interfaces = Vec::new();
     for i in &o.interfaces {
         let r = i.rows;
@@ -197,7 +190,7 @@ pub fn evaluate(
         let (ks, smax) = argmax(&s);
         let (_, mmax) = argmax(&m);
         let pext = (0..f.len())
-            .map(|k| t[k] + m[k] * face(i))
+            .map(|k| t[k] + m[k] * prep.face_moment_factor(i))
             .fold(0.0, f64::max);
         ms.extend(margins::interface(i, pext, smax, &prep.margins, &case));
         interfaces.push(InterfaceSine {
