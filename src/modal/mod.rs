@@ -483,16 +483,23 @@ fn align_degenerate(mut pairs: Vec<(f64, Vec<f64>)>, md: &[[f64; 6]]) -> Vec<(f6
                     q.push(v.into_iter().map(|x| x / n).collect());
                 }
             }
-            let old: Vec<Vec<f64>> = (start..end).map(|c| pairs[c].1.clone()).collect();
-            for (j, qj) in q.iter().enumerate() {
-                let dofs = old[0].len();
-                let mut s = vec![0.0; dofs];
-                for (i, o) in old.iter().enumerate() {
-                    for r in 0..dofs {
-                        s[r] += qj[i] * o[r];
-                    }
-                }
-                pairs[start + j].1 = s;
+            // New shapes = old shapes · Qᵀ, as one matrix product (clusters of a few hundred
+            // repeated local modes make this k²·n).
+            let dofs = pairs[start].1.len();
+            let old = faer::Mat::<f64>::from_fn(dofs, k, |r, i| pairs[start + i].1[r]);
+            let qt = faer::Mat::<f64>::from_fn(k, q.len(), |i, j| q[j][i]);
+            let mut new = faer::Mat::<f64>::zeros(dofs, q.len());
+            faer::linalg::matmul::matmul(
+                new.as_mut(),
+                faer::Accum::Replace,
+                old.as_ref(),
+                qt.as_ref(),
+                1.0,
+                faer::Par::Seq,
+            );
+            for j in 0..q.len() {
+                let col = new.col(j);
+                pairs[start + j].1 = (0..dofs).map(|r| col[r]).collect();
             }
         }
         start = end;
