@@ -603,39 +603,65 @@ pub fn buckling_factor(k: &SymCsc, kg: &SymCsc) -> Result<Option<f64>, SparseErr
             _ => sigma *= 0.7,
         }
     }
-    let shifted = shifted.ok_or_else(|| {
+    let mut shifted = shifted.ok_or_else(|| {
         ModalError::NoConvergence(format!(
             "buckling: no shift below the first buckling factor found under {upper:e}"
         ))
     })?;
-    let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
-        let mut w = bv.to_owned();
-        shifted.solve(w.as_mut());
-        w
-    };
-    let mut lz = Lanczos::new(
-        n,
-        BLOCK.min(n),
-        max_basis,
-        empty.as_ref(),
-        empty.as_ref(),
-        11,
-    );
-    lz.start(k);
-    loop {
-        let more = lz.step(&op, k);
-        let (nu, res, _) = lz.ritz()?;
-        let top = nu.len() - 1;
-        if res[top] <= RESIDUAL_TOL * nu[top].abs() && nu[top] > 1.0 {
-            return Ok(Some(sigma * nu[top] / (nu[top] - 1.0)));
+    // When many buckling modes crowd λ₁ (a long stack's identical column segments), a shift
+    // far below leaves them all near the top of ν and Lanczos crawls. Each unconverged run
+    // still gives an upper bound λ₁ ≤ σ·ν/(ν − 1) (the top Ritz value bounds ν_max from
+    // below); the shift moves most of the way up to it, kept below λ₁ by a Sturm count of 0,
+    // which spreads the crowd apart (ν = λ/(λ − σ)).
+    for run in 0..6u64 {
+        let sg = shifted.sigma;
+        let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
+            let mut w = bv.to_owned();
+            shifted.solve(w.as_mut());
+            w
+        };
+        let mut lz = Lanczos::new(
+            n,
+            BLOCK.min(n),
+            max_basis,
+            empty.as_ref(),
+            empty.as_ref(),
+            11 + run,
+        );
+        lz.start(k);
+        let estimate = loop {
+            let more = lz.step(&op, k);
+            let (nu, res, _) = lz.ritz()?;
+            let top = nu.len() - 1;
+            if res[top] <= RESIDUAL_TOL * nu[top].abs() && nu[top] > 1.0 {
+                return Ok(Some(sg * nu[top] / (nu[top] - 1.0)));
+            }
+            if !more {
+                break (nu[top] > 1.0).then(|| sg * nu[top] / (nu[top] - 1.0));
+            }
+        };
+        let Some(est) = estimate else { break };
+        let mut next = None;
+        let mut t = sg + 0.95 * (est - sg);
+        for _ in 0..20 {
+            match pencil.factor(t) {
+                Ok(f) if f.negative == 0 && f.min_relative_pivot() > 1e-13 => {
+                    next = Some(f);
+                    break;
+                }
+                _ => t = sg + 0.5 * (t - sg),
+            }
         }
-        if !more {
-            return Err(ModalError::NoConvergence(format!(
-                "buckling: shift-invert Lanczos at σ = {sigma:e} did not converge within {max_basis} vectors"
-            ))
-            .into());
+        match next {
+            Some(f) if f.sigma > sg => shifted = f,
+            _ => break,
         }
     }
+    Err(ModalError::NoConvergence(format!(
+        "buckling: shift-invert Lanczos near σ = {:e} did not converge within {max_basis} vectors",
+        shifted.sigma
+    ))
+    .into())
 }
 
 /// An eigenpair (λ, φ).

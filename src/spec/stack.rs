@@ -61,6 +61,32 @@ pub struct StackSpec {
     /// Beam elements per satellite pitch along each guide bar.
     #[serde(default = "two")]
     pub bar_elements_per_satellite: usize,
+    /// Lateral contact of each guide bar with the column bores at every interface level.
+    /// `open` (default): the radial clearance stays open, and the bar is held laterally only
+    /// at its root and by the compression device. `closed`: bar and bore touch (a bar bowed
+    /// by lateral load, or a long stack, closes the fraction of a millimetre), modelled as
+    /// lateral springs of `bar_bore_stiffness_n_m` between the bar and the column ends at each
+    /// level. Closed bores brace the preloaded columns: the bar tension and the column
+    /// compression then act on one laterally coupled section and do not buckle it globally.
+    #[serde(default)]
+    pub bar_bore: BarBore,
+    /// Lateral contact stiffness of one closed bar–bore contact, N/m. ASSUMPTION: 1e8 N/m, a
+    /// linearised steel-on-aluminium line contact a few centimetres long.
+    #[serde(default = "bore_stiffness")]
+    pub bar_bore_stiffness_n_m: f64,
+}
+
+/// See [`StackSpec::bar_bore`].
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum BarBore {
+    #[default]
+    Open,
+    Closed,
+}
+
+fn bore_stiffness() -> f64 {
+    1e8
 }
 
 fn two() -> usize {
@@ -200,6 +226,7 @@ impl StackSpec {
                 self.device_lateral_stiffness_n_m,
             ),
             ("base_height_m", self.base_height_m),
+            ("bar_bore_stiffness_n_m", self.bar_bore_stiffness_n_m),
         ] {
             if v < 0.0 {
                 return Err(loc.err(&k(key), format!("must not be negative, got {v}")));
@@ -399,6 +426,23 @@ impl StackSpec {
                     elements,
                 ));
                 prev = ids::bar(c, level);
+            }
+            if self.bar_bore == BarBore::Closed {
+                // Level j is the bottom of satellite n − j (the platform joint at j = 0); the
+                // top level carries the compression device, laterally stiff already.
+                for level in 0..n {
+                    let bar_node = if level == 0 && self.base_height_m <= 0.0 {
+                        ids::bar_root(c)
+                    } else {
+                        ids::bar(c, level)
+                    };
+                    let k = self.bar_bore_stiffness_n_m;
+                    f.spring.push(Spring {
+                        name: Some(format!("bar {c} bore contact sat {}", n - level)),
+                        nodes: [bar_node, ids::column(n - level, c, 1)],
+                        stiffness: [k, k, 0.0, 0.0, 0.0, 0.0],
+                    });
+                }
             }
             f.preload.push(Preload {
                 name: Some(format!("compression device bar {c}")),
