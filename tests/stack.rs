@@ -295,3 +295,54 @@ fn modal_json_lists_prestress_members() {
             .any(|m| m["name"].as_str().unwrap().contains("column"))
     );
 }
+
+#[test]
+fn closed_bores_brace_a_long_stack() {
+    // 120 satellites on 66 m guide bars (one 0.55 m pitch per satellite added). With open
+    // bores the columns form one 66 m Euler column under 45 kN, braced only at the base and
+    // the compression device: beyond its buckling load (factor 0.62, reported by `satqual
+    // bench modal`), which must be an error. With the bars bearing on the bores at every level
+    // (`bar_bore = "closed"`), bar tension and column compression act on one laterally tied
+    // section: the global mode disappears and only short column segments can buckle, so the
+    // factor must exceed 1, and the axial preload path (lateral springs only) stays exact.
+    let base = load("test-specs/paper-stack.toml");
+    let long = with_text(&base, "satellites = 6", "satellites = 120");
+    let long = with_text(
+        &long,
+        "bar_length_m = 3.85",
+        &format!("bar_length_m = {}", 3.85 + 114.0 * 0.55),
+    );
+    let open = satqual::pipeline::modal(&long, None, Some(1))
+        .err()
+        .expect("open bores: beyond the buckling load")
+        .to_string();
+    assert!(open.contains("above the stack's buckling load"), "{open}");
+    let closed = with_text(
+        &long,
+        "satellites = 120",
+        "satellites = 120\nbar_bore = \"closed\"",
+    );
+    let (model, sys) =
+        satqual::pipeline::modal(&closed, None, Some(1)).unwrap_or_else(|e| panic!("{e}"));
+    let ps = sys.result.prestress.as_ref().unwrap();
+    let lambda = ps
+        .buckling_factor
+        .expect("columns in compression can buckle");
+    assert!(lambda > 1.0, "closed bores: buckling factor {lambda}");
+    let p = 45000.0;
+    let (bars, levels) = bar_and_interface_forces(&model, &sys);
+    let t: f64 = bars.iter().sum();
+    assert!((t - p).abs() <= 1e-9 * p, "bar tensions sum to {t} N");
+    assert_eq!(levels.len(), 120);
+    for l in &levels {
+        let c: f64 = l.iter().sum();
+        assert!((c + p).abs() <= 1e-9 * p, "joint level carries {c} N");
+    }
+    // Every closed contact is there: 4 bars × 120 levels.
+    let contacts = ps
+        .springs
+        .iter()
+        .filter(|s| s.name.contains("bore contact"))
+        .count();
+    assert_eq!(contacts, 480);
+}

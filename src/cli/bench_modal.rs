@@ -112,7 +112,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
         {
             let closed = with_closed_bores(&text);
             row = bench_stack(&work, n, &closed, python.as_deref())?;
-            let why = err.rsplit(": ").next().unwrap_or(&err).to_string();
+            let why = err.trim_start_matches("satqual failed: ");
             row.model_note = Some(format!("bar_bore = \"closed\": with open bores {why}"));
         }
         stacks.push(row);
@@ -173,6 +173,22 @@ fn bench_stack(
         }
     };
     let time_s = t0.elapsed().as_secs_f64();
+    // As `satqual modal` would refuse it (pipeline::modal_with_solver): the modes of a stack
+    // beyond its buckling load are not those of a stable structure.
+    if let Some(l) = sys
+        .result
+        .prestress
+        .as_ref()
+        .and_then(|p| p.buckling_factor)
+        .filter(|&l| l < 1.0)
+    {
+        eprintln!("stack {n}: beyond its buckling load (factor {l:.3})");
+        return Ok(StackRow::failed(
+            n,
+            time_s,
+            format!("the preload is above the stack's buckling load (buckling factor {l:.3})"),
+        ));
+    }
     let peak = peak_mb();
     let r = &sys.result;
     let st = r.sparse.clone().unwrap_or_default();
