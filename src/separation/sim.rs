@@ -5,7 +5,9 @@
 //!    the bar modal coordinates and velocities (4 bars × x, y × modes), then three dissipation
 //!    integrals (contact damping, friction, bar damping) for the energy audit;
 //! 2. integrate with Dormand–Prince 5(4) between scheduled releases; at each release the
-//!    springs of the released interfaces start acting and the freed satellites start moving;
+//!    springs of the released interfaces start acting and the freed satellites start moving,
+//!    and the frames and edge kinematics of the bodies that stay latched are cached (a body
+//!    that is not free has a zero derivative, so the cache is exact);
 //! 3. after every accepted step, evaluate the event functions (penetration δ of every bore
 //!    edge, height of every edge above the bar tip, extension of every active spring against
 //!    its end of action); the earliest sign change is located on the dense output, the step is
@@ -761,7 +763,7 @@ impl<'a> Sim<'a> {
     }
 
     /// All event values into `g`, and the rate δ̇ of every edge's penetration into `gd` (for
-    /// the hidden-contact test). Edges are evaluated exactly, without the bound shortcut.
+    /// the hidden-contact test). Every edge is evaluated exactly (δ and δ̇), touching or not.
     fn events(&self, y: &[f64], g: &mut [f64], gd: &mut [f64]) {
         let frames = self.frames(y);
         let n8 = 8 * self.n;
