@@ -162,16 +162,18 @@ fn energy_audit_closes_on_the_reference_scene() {
 }
 
 /// Tolerance convergence (issue 6: final speeds change by < 1e-4 m/s between the default
-/// tolerance and 1/100 of it), on the two reference cases where the exit speeds are
-/// well-conditioned functions of the inputs:
+/// tolerance and 1/100 of it), on the reference cases where a trajectory converges:
 /// - the full six-satellite reference release with rigid bars (10% spring error, contacts);
-/// - the first release of the reference scene with its flexible bars (the other interfaces
-///   stay latched).
+/// - the first release of the reference scene with its flexible bars, over the first 0.3 s
+///   after the release (98 contacts), shorter than the time the chaotic growth below needs
+///   to amplify a tolerance-sized error to the size of the check.
 ///
-/// With flexible bars and all six releases, satellites 2–6 rattle with bars that also rattle
-/// in the bores of the latched satellites: that vibro-impact motion is chaotic, and a 1e-12
-/// relative change of the spring stiffness moves their exit speeds by up to 2e-3 m/s
-/// (docs/separation.md). No tolerance can converge those; the bench reports them.
+/// With flexible bars every run longer than about a second is chaotic: the bars rattle in the
+/// 0.5 mm bores, and a perturbation grows about e^(15 t) (also with Ce = 1 and no friction,
+/// so neither the latched LN damping nor the friction regularisation causes it), until it
+/// saturates at the size of the rattle; see "Conditioning" in docs/separation.md and
+/// `satqual bench separation`. For those runs the distribution is what converges: see
+/// `exit_speed_distribution_converges_with_tolerance`.
 #[test]
 fn exit_speeds_converge_with_tolerance() {
     let (_, base) = paper();
@@ -182,9 +184,10 @@ fn exit_speeds_converge_with_tolerance() {
     for t in first.release_times_s.iter_mut().skip(1) {
         *t = None;
     }
+    first.max_time_s = first.release_times_s[0].unwrap() + 0.3;
     for (name, mut m, n) in [
         ("rigid bars, six releases", rigid, 6),
-        ("flexible bars, first release", first, 1),
+        ("flexible bars, first release, 0.3 s", first, 1),
     ] {
         let a = separation::run(&m, &RunOptions::default()).unwrap();
         m.tolerance = tol / 100.0;
@@ -208,4 +211,50 @@ fn exit_speeds_converge_with_tolerance() {
         }
         assert!(b.stats.steps > a.stats.steps);
     }
+}
+
+/// Statistical convergence of the chaotic flexible-bar runs: a seeded Monte Carlo of the
+/// reference scene (six releases, flexible bars, the scene's dispersions) at the default
+/// tolerance and at 1/100 of it. The same seed gives both the same inputs, so the exit speeds
+/// pair up run by run; their differences d are the chaotic scatter plus any bias of the
+/// tolerance. Checks, each at 4 standard errors (a false alarm about once in 15 000 runs for
+/// normal errors):
+/// - the mean of d against its standard error s_d/√N (no bias of the default tolerance);
+/// - the pooled P50 of the exit speed against √(π/2)·s_d/√N, the standard error of a median
+///   of normal samples with the scatter of d.
+///
+/// Ten runs (60 exit speeds) keep it to about half a minute on two cores; the bench runs the
+/// same check with more runs.
+#[test]
+fn exit_speed_distribution_converges_with_tolerance() {
+    let (_, base) = paper();
+    let runs = 10;
+    let a = separation::monte_carlo(&base, runs, 7).unwrap();
+    let mut fine = base.clone();
+    fine.tolerance = base.tolerance / 100.0;
+    let b = separation::monte_carlo(&fine, runs, 7).unwrap();
+    let d: Vec<f64> = a
+        .samples_final_speed_m_s
+        .iter()
+        .zip(&b.samples_final_speed_m_s)
+        .map(|(x, y)| x - y)
+        .collect();
+    assert_eq!(d.len(), 6 * runs);
+    let k = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / k;
+    let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k - 1.0)).sqrt();
+    let se = sd / k.sqrt();
+    // Not vacuous: the runs are chaotic (the two tolerances do give different exit speeds),
+    // and the dispersions spread the exit speeds far more than the pairs differ.
+    assert!(sd > 1e-6, "s_d = {sd:e}");
+    assert!(a.final_speed_m_s.p99 - a.final_speed_m_s.p1 > 0.01);
+    assert!(mean.abs() < 4.0 * se, "mean d {mean:e}, SE {se:e}");
+    let dp50 = a.final_speed_m_s.p50 - b.final_speed_m_s.p50;
+    let se50 = (std::f64::consts::PI / 2.0).sqrt() * se;
+    assert!(
+        dp50.abs() < 4.0 * se50,
+        "P50 {} vs {} (Δ {dp50:e}, SE {se50:e})",
+        a.final_speed_m_s.p50,
+        b.final_speed_m_s.p50
+    );
 }

@@ -5,7 +5,9 @@
 //!    the bar modal coordinates and velocities (4 bars × x, y × modes), then three dissipation
 //!    integrals (contact damping, friction, bar damping) for the energy audit;
 //! 2. integrate with Dormand–Prince 5(4) between scheduled releases; at each release the
-//!    springs of the released interfaces start acting and the freed satellites start moving;
+//!    springs of the released interfaces start acting and the freed satellites start moving,
+//!    and the frames and edge kinematics of the bodies that stay latched are cached (a body
+//!    that is not free has a zero derivative, so the cache is exact);
 //! 3. after every accepted step, evaluate the event functions (penetration δ of every bore
 //!    edge, height of every edge above the bar tip, extension of every active spring against
 //!    its end of action); the earliest sign change is located on the dense output, the step is
@@ -146,6 +148,13 @@ struct Sim<'a> {
     exit: Vec<Option<(f64, V3, V3)>>,
     tip_cut_loss: f64,
     e_ref: f64,
+    /// Frames of the bodies that do not move (latched satellites, fixed carrier), by body.
+    static_frames: Vec<Option<Frame>>,
+    /// Rigid-body kinematics of the edges of latched satellites, by edge.
+    static_edges: Vec<Option<EdgeRigid>>,
+    /// c²(1 − 1e-12): below it an edge certainly does not touch.
+    clearance_sq_safe: f64,
+    scratch: std::cell::RefCell<Scratch>,
 }
 
 /// Geometry and kinematics of one bore edge against its bar.
@@ -162,14 +171,51 @@ struct EdgeKin {
     /// Bar deflection slope and velocity at the edge height, x and y.
     slope: [f64; 2],
     udot: [f64; 2],
-    /// False when only the bound of δ was computed.
-    #[allow(dead_code)]
-    kin: bool,
+    /// Mode shapes at the edge height (for the generalised force on the bar).
+    phi: [f64; MAX_BAR_MODES],
 }
 
-/// |q| per bar, direction and mode.
-type Bounds = [[[f64; MAX_BAR_MODES]; 2]; 4];
+impl EdgeKin {
+    /// An edge known not to touch, at height z: δ is only known to be negative.
+    fn apart(z: f64) -> EdgeKin {
+        EdgeKin {
+            delta: -f64::MIN_POSITIVE,
+            delta_dot: 0.0,
+            n: [0.0; 2],
+            z,
+            p: [0.0; 3],
+            vp: [0.0; 3],
+            slope: [0.0; 2],
+            udot: [0.0; 2],
+            phi: [0.0; MAX_BAR_MODES],
+        }
+    }
+}
 
+/// The rigid-body part of an edge's kinematics (positions and velocities of the edge point,
+/// the mode shapes at its height). Constant while the satellite is latched to a fixed carrier:
+/// then it is computed once, from the same state and by the same formulas as
+/// [`Sim::edge_kin`] would use, so the cache changes no bit of the results.
+#[derive(Clone, Copy)]
+struct EdgeRigid {
+    p: V3,
+    pl: V3,
+    vp: V3,
+    vrel: V3,
+    phi: [f64; MAX_BAR_MODES],
+    dphi: [f64; MAX_BAR_MODES],
+}
+
+/// Buffers of the right-hand side, kept between calls so that it allocates nothing.
+#[derive(Default)]
+struct Scratch {
+    frames: Vec<Frame>,
+    force: Vec<V3>,
+    torque: Vec<V3>,
+    q_gen: Vec<f64>,
+}
+
+#[derive(Clone, Copy)]
 struct Frame {
     x: V3,
     r: M3,
@@ -230,6 +276,10 @@ impl<'a> Sim<'a> {
             exit: vec![None; n],
             tip_cut_loss: 0.0,
             e_ref: m.spring_energy_j().max(1e-30),
+            static_frames: vec![None; n + 1],
+            static_edges: vec![None; 8 * n],
+            clearance_sq_safe: m.clearance_m * m.clearance_m * (1.0 - 1e-12),
+            scratch: Default::default(),
         }
     }
 
@@ -271,6 +321,14 @@ impl<'a> Sim<'a> {
 
     #[inline]
     fn frame(&self, y: &[f64], b: usize) -> Frame {
+        if let Some(f) = self.static_frames[b] {
+            return f;
+        }
+        self.frame_of(y, b)
+    }
+
+    #[inline]
+    fn frame_of(&self, y: &[f64], b: usize) -> Frame {
         let o = BODY_STATES * b;
         let r = rotation(&y[o + 3..o + 7]);
         let wb = [y[o + 10], y[o + 11], y[o + 12]];
@@ -287,23 +345,11 @@ impl<'a> Sim<'a> {
         self.bar_off + (bar * 2 + dir) * self.nm + mode
     }
 
-    /// |q| of every bar mode, `[bar][dir][mode]`, for the per-height deflection bound.
-    fn deflection_bounds(&self, y: &[f64]) -> Bounds {
-        let mut b = [[[0.0; MAX_BAR_MODES]; 2]; 4];
-        for (bar, bb) in b.iter_mut().enumerate() {
-            for (d, v) in bb.iter_mut().enumerate() {
-                for (mo, q) in v.iter_mut().enumerate().take(self.nm) {
-                    *q = y[self.qidx(bar, d, mo)].abs();
-                }
-            }
-        }
-        b
-    }
-
     /// Penetration and kinematics of edge (sat i 1-based, column j, end k) against bar j.
-    /// With `bounds`, an edge that cannot touch its bar returns early with a negative upper
-    /// bound of δ (`kin = false`); event detection only needs the sign there, and root
-    /// location always evaluates exactly (`bounds = None`).
+    /// With `touching_only`, an edge that does not touch returns a negative δ (not necessarily
+    /// the exact one) and no kinematics: the right-hand side and the energy audit need nothing
+    /// else from it. A
+    /// latched satellite's edge takes its rigid part from the cache.
     // Eight arguments: the two frames are computed once per right-hand side and shared by
     // all edges; bundling them into a struct would only move the count.
     #[allow(clippy::too_many_arguments)]
@@ -316,82 +362,174 @@ impl<'a> Sim<'a> {
         i: usize,
         j: usize,
         k: usize,
-        bounds: Option<&Bounds>,
+        touching_only: bool,
     ) -> EdgeKin {
+        if let Some(r) = &self.static_edges[(i - 1) * 8 + j * 2 + k] {
+            return self.edge_bar(y, j, r, touching_only);
+        }
         let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
         let p = add(s.x, rb);
         let pl = mul_t(&c0.r, sub(p, c0.x));
+        let mut r = EdgeRigid {
+            p,
+            pl,
+            vp: [0.0; 3],
+            vrel: [0.0; 3],
+            phi: [0.0; MAX_BAR_MODES],
+            dphi: [0.0; MAX_BAR_MODES],
+        };
+        if let Some(bar) = &self.m.bars {
+            bar.eval_phi(pl[2], &mut r.phi);
+        }
+        if touching_only && !self.may_touch(y, j, &r) {
+            return EdgeKin::apart(pl[2]);
+        }
+        let mut ek = self.edge_bar(y, j, &r, touching_only);
+        if touching_only && ek.delta <= 0.0 {
+            return ek;
+        }
+        // Slopes and velocities enter δ̇ only: finish the edge with them.
+        if let Some(bar) = &self.m.bars {
+            bar.eval_dphi(pl[2], &mut r.dphi);
+        }
+        self.edge_velocity(c0, s, rb, &mut r);
+        ek = self.edge_bar(y, j, &r, false);
+        ek
+    }
+
+    /// The rigid-body part of an edge's kinematics, from its offset `rb` (world axes), point
+    /// `p` and point in the carrier frame `pl`.
+    fn edge_rigid(&self, c0: &Frame, s: &Frame, rb: V3, p: V3, pl: V3) -> EdgeRigid {
+        let mut r = EdgeRigid {
+            p,
+            pl,
+            vp: [0.0; 3],
+            vrel: [0.0; 3],
+            phi: [0.0; MAX_BAR_MODES],
+            dphi: [0.0; MAX_BAR_MODES],
+        };
+        self.edge_velocity(c0, s, rb, &mut r);
+        if let Some(bar) = &self.m.bars {
+            bar.eval_all(pl[2], &mut r.phi, &mut r.dphi);
+        }
+        r
+    }
+
+    /// Velocity of the edge point, world and relative to the carrier in its frame.
+    #[inline]
+    fn edge_velocity(&self, c0: &Frame, s: &Frame, rb: V3, r: &mut EdgeRigid) {
+        r.vp = add(s.v, cross(s.w, rb));
+        r.vrel = mul_t(&c0.r, sub(sub(r.vp, c0.v), cross(c0.w, sub(r.p, c0.x))));
+    }
+
+    /// False when the edge certainly does not touch (δ < 0), decided without the square root
+    /// (whose latency dominates the test): |e|² below c²(1 − 1e-12) means |e| < c even after
+    /// the rounding of both sides.
+    #[inline(always)]
+    fn may_touch(&self, y: &[f64], j: usize, r: &EdgeRigid) -> bool {
+        let e = self.edge_offset(y, j, r);
+        e[0] * e[0] + e[1] * e[1] >= self.clearance_sq_safe
+    }
+
+    /// Offset from the edge point to the deflected centreline of bar `j`, carrier x and y.
+    #[inline(always)]
+    fn edge_offset(&self, y: &[f64], j: usize, r: &EdgeRigid) -> [f64; 2] {
+        let pl = r.pl;
         let col = self.m.columns_xy[j];
-        if let Some(b) = bounds {
-            let off = ((col[0] - pl[0]).powi(2) + (col[1] - pl[1]).powi(2)).sqrt();
-            // |u(z)| ≤ Σ max_segment|φ_j|·|q_j| per direction.
-            let mut ub = [0.0; 2];
-            if let Some(bar) = &self.m.bars {
-                let mut pb = [0.0; MAX_BAR_MODES];
-                bar.bound_at(pl[2], &mut pb);
-                for d in 0..2 {
-                    for mo in 0..self.nm {
-                        ub[d] += pb[mo] * b[j][d][mo];
-                    }
-                }
-            }
-            let reach = off + (ub[0] * ub[0] + ub[1] * ub[1]).sqrt() - self.m.clearance_m;
-            if reach < 0.0 {
-                return EdgeKin {
-                    delta: reach,
-                    delta_dot: 0.0,
-                    n: [0.0; 2],
-                    z: pl[2],
-                    p,
-                    vp: [0.0; 3],
-                    slope: [0.0; 2],
-                    udot: [0.0; 2],
-                    kin: false,
-                };
+        let mut u = [0.0; 2];
+        if self.m.bars.is_some() {
+            let q = &y[self.qidx(j, 0, 0)..self.qidx(j, 2, 0)];
+            let (qx, qy) = q.split_at(self.nm);
+            for mo in 0..self.nm {
+                u[0] += r.phi[mo] * qx[mo];
+                u[1] += r.phi[mo] * qy[mo];
             }
         }
-        let vp = add(s.v, cross(s.w, rb));
-        let vrel = mul_t(&c0.r, sub(sub(vp, c0.v), cross(c0.w, sub(p, c0.x))));
-        let mut u = [0.0; 2];
-        let mut slope = [0.0; 2];
-        let mut udot = [0.0; 2];
-        if let Some(bar) = &self.m.bars {
-            let nv = self.nm;
-            let mut phi = [0.0; MAX_BAR_MODES];
-            let mut dphi = [0.0; MAX_BAR_MODES];
-            bar.eval_all(pl[2], &mut phi, &mut dphi);
+        [col[0] + u[0] - pl[0], col[1] + u[1] - pl[1]]
+    }
+
+    /// δ of an edge against the deflected bar `j`, with the offset bar − edge and its length.
+    #[inline(always)]
+    fn edge_delta(&self, y: &[f64], j: usize, r: &EdgeRigid) -> (f64, [f64; 2], f64) {
+        let e = self.edge_offset(y, j, r);
+        let rr = (e[0] * e[0] + e[1] * e[1]).sqrt();
+        (rr - self.m.clearance_m, e, rr)
+    }
+
+    /// Penetration and kinematics of an edge against the deflected bar `j`; with
+    /// `touching_only` and δ ≤ 0, only δ.
+    #[inline]
+    fn edge_bar(&self, y: &[f64], j: usize, r: &EdgeRigid, touching_only: bool) -> EdgeKin {
+        let (pl, vrel) = (r.pl, r.vrel);
+        let nv = self.nm;
+        let (delta, e, rr) = self.edge_delta(y, j, r);
+        let mut ek = EdgeKin {
+            delta,
+            delta_dot: 0.0,
+            n: [0.0; 2],
+            z: pl[2],
+            p: r.p,
+            vp: r.vp,
+            slope: [0.0; 2],
+            udot: [0.0; 2],
+            phi: r.phi,
+        };
+        if touching_only && delta <= 0.0 {
+            return ek;
+        }
+        if self.m.bars.is_some() {
             for mo in 0..nv {
                 for d in 0..2 {
                     let qi = self.qidx(j, d, mo);
-                    let q = y[qi];
-                    let qd = y[qi + 8 * nv];
-                    u[d] += phi[mo] * q;
-                    slope[d] += dphi[mo] * q;
-                    udot[d] += phi[mo] * qd;
+                    ek.slope[d] += r.dphi[mo] * y[qi];
+                    ek.udot[d] += r.phi[mo] * y[qi + 8 * nv];
                 }
             }
         }
-        let e = [col[0] + u[0] - pl[0], col[1] + u[1] - pl[1]];
-        let r = (e[0] * e[0] + e[1] * e[1]).sqrt();
-        let delta = r - self.m.clearance_m;
-        let n = if r > 1e-300 {
-            [e[0] / r, e[1] / r]
+        let (slope, udot) = (ek.slope, ek.udot);
+        let n = if rr > 1e-300 {
+            [e[0] / rr, e[1] / rr]
         } else {
             [0.0, 0.0]
         };
-        let delta_dot = n[0] * (udot[0] + slope[0] * vrel[2] - vrel[0])
+        ek.n = n;
+        ek.delta_dot = n[0] * (udot[0] + slope[0] * vrel[2] - vrel[0])
             + n[1] * (udot[1] + slope[1] * vrel[2] - vrel[1]);
-        EdgeKin {
-            delta,
-            delta_dot,
-            n,
-            z: pl[2],
-            p,
-            vp,
-            slope,
-            udot,
-            kin: true,
+        ek
+    }
+
+    /// Rebuilds the caches of the bodies that do not move, after a change of `free`. A body
+    /// that is not free has a zero derivative, so its state stays bit-for-bit what it is now.
+    fn rebuild_static(&mut self, y: &[f64]) {
+        for b in 0..=self.n {
+            self.static_frames[b] = None;
         }
+        for e in self.static_edges.iter_mut() {
+            *e = None;
+        }
+        if self.free[0] {
+            return;
+        }
+        let mut frames = vec![None; self.n + 1];
+        for (b, f) in frames.iter_mut().enumerate() {
+            if !self.free[b] {
+                *f = Some(self.frame_of(y, b));
+            }
+        }
+        let c0 = frames[0].expect("the carrier is fixed");
+        for i in 1..=self.n {
+            let Some(s) = frames[i] else { continue };
+            for j in 0..4 {
+                for k in 0..2 {
+                    let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
+                    let p = add(s.x, rb);
+                    let pl = mul_t(&c0.r, sub(p, c0.x));
+                    self.static_edges[(i - 1) * 8 + j * 2 + k] =
+                        Some(self.edge_rigid(&c0, &s, rb, p, pl));
+                }
+            }
+        }
+        self.static_frames = frames;
     }
 
     fn lower_body(&self, interface: usize) -> usize {
@@ -413,9 +551,20 @@ impl<'a> Sim<'a> {
     fn rhs(&self, y: &[f64], dy: &mut [f64]) {
         dy.fill(0.0);
         let nb = self.n + 1;
-        let mut force = vec![[0.0; 3]; nb];
-        let mut torque = vec![[0.0; 3]; nb];
-        let frames: Vec<Frame> = (0..nb).map(|b| self.frame(y, b)).collect();
+        let mut sc = self.scratch.borrow_mut();
+        let Scratch {
+            frames,
+            force,
+            torque,
+            q_gen,
+        } = &mut *sc;
+        force.clear();
+        force.resize(nb, [0.0; 3]);
+        torque.clear();
+        torque.resize(nb, [0.0; 3]);
+        frames.clear();
+        frames.extend((0..nb).map(|b| self.frame(y, b)));
+        let frames = &*frames;
         let apply = |b: usize, f: V3, at: V3, force: &mut Vec<V3>, torque: &mut Vec<V3>| {
             force[b] = add(force[b], f);
             torque[b] = add(torque[b], cross(sub(at, frames[b].x), f));
@@ -426,27 +575,27 @@ impl<'a> Sim<'a> {
             if !self.released[s.interface] {
                 continue;
             }
-            let (ext, pu, zl) = self.spring_ext(&frames, si);
+            let (ext, pu, zl) = self.spring_ext(frames, si);
             let f = s.force(ext);
             if f != 0.0 {
                 let fv = scale(zl, f);
-                apply(s.interface, fv, pu, &mut force, &mut torque);
+                apply(s.interface, fv, pu, force, torque);
                 apply(
                     self.lower_body(s.interface),
                     scale(fv, -1.0),
                     pu,
-                    &mut force,
-                    &mut torque,
+                    force,
+                    torque,
                 );
             }
         }
         // Contacts.
         let c = &self.m.contact;
-        let mut q_gen = vec![0.0; 8 * self.nm];
+        q_gen.clear();
+        q_gen.resize(8 * self.nm, 0.0);
         let (mut p_contact, mut p_fric) = (0.0, 0.0);
         let c0 = &frames[0];
         let len = self.m.bar_length_m;
-        let bounds = self.deflection_bounds(y);
         for (i, s) in frames.iter().enumerate().skip(1) {
             for j in 0..4 {
                 for k in 0..2 {
@@ -455,7 +604,16 @@ impl<'a> Sim<'a> {
                     if ec.past_tip {
                         continue;
                     }
-                    let ek = self.edge_kin(y, c0, s, i, j, k, Some(&bounds));
+                    let ek = if let Some(r) = &self.static_edges[ei] {
+                        // Most edges belong to latched satellites and do not touch: decide
+                        // that from δ alone before assembling the kinematics.
+                        if !self.may_touch(y, j, r) {
+                            continue;
+                        }
+                        self.edge_bar(y, j, r, false)
+                    } else {
+                        self.edge_kin(y, c0, s, i, j, k, true)
+                    };
                     if ek.delta <= 0.0 || ek.z < 0.0 || ek.z > len {
                         continue;
                     }
@@ -471,8 +629,8 @@ impl<'a> Sim<'a> {
                         -fnrm * (n[0] * ek.slope[0] + n[1] * ek.slope[1]),
                     ];
                     let f_w = mul(&c0.r, f_loc);
-                    apply(i, f_w, ek.p, &mut force, &mut torque);
-                    apply(0, scale(f_w, -1.0), ek.p, &mut force, &mut torque);
+                    apply(i, f_w, ek.p, force, torque);
+                    apply(0, scale(f_w, -1.0), ek.p, force, torque);
                     let mut bar_f = [-fnrm * n[0], -fnrm * n[1]];
                     if c.friction > 0.0 {
                         let rc = mul(
@@ -496,21 +654,16 @@ impl<'a> Sim<'a> {
                             let ft = c.friction * cd * fnrm;
                             let ft_loc = scale(vt, -ft / vtm);
                             let ft_w = mul(&c0.r, ft_loc);
-                            apply(i, ft_w, cpt, &mut force, &mut torque);
-                            apply(0, scale(ft_w, -1.0), cpt, &mut force, &mut torque);
+                            apply(i, ft_w, cpt, force, torque);
+                            apply(0, scale(ft_w, -1.0), cpt, force, torque);
                             bar_f[0] -= ft_loc[0];
                             bar_f[1] -= ft_loc[1];
                             p_fric += ft * vtm;
                         }
                     }
-                    if let Some(bar) = &self.m.bars {
-                        let mut phi = [0.0; MAX_BAR_MODES];
-                        let mut dphi = [0.0; MAX_BAR_MODES];
-                        bar.eval_all(ek.z, &mut phi, &mut dphi);
-                        for mo in 0..self.nm {
-                            q_gen[(j * 2) * self.nm + mo] += bar_f[0] * phi[mo];
-                            q_gen[(j * 2 + 1) * self.nm + mo] += bar_f[1] * phi[mo];
-                        }
+                    for mo in 0..self.nm {
+                        q_gen[(j * 2) * self.nm + mo] += bar_f[0] * ek.phi[mo];
+                        q_gen[(j * 2 + 1) * self.nm + mo] += bar_f[1] * ek.phi[mo];
                     }
                 }
             }
@@ -569,12 +722,12 @@ impl<'a> Sim<'a> {
         20 * self.n
     }
 
-    fn event_value(&self, y: &[f64], idx: usize, frames: &[Frame], bounds: Option<&Bounds>) -> f64 {
+    fn event_value(&self, y: &[f64], idx: usize, frames: &[Frame]) -> f64 {
         let n8 = 8 * self.n;
         if idx < 2 * n8 {
             let ei = idx % n8;
             let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
-            let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, bounds);
+            let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, false);
             if idx < n8 {
                 ek.delta
             } else {
@@ -586,24 +739,43 @@ impl<'a> Sim<'a> {
         }
     }
 
+    /// [`Self::event_value`] computing only the frames that event needs (root location
+    /// evaluates one event many times).
+    fn event_value_at(&self, y: &[f64], idx: usize) -> f64 {
+        let n8 = 8 * self.n;
+        if idx < 2 * n8 {
+            let ei = idx % n8;
+            let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
+            let ek = self.edge_kin(y, &self.frame(y, 0), &self.frame(y, i), i, j, k, false);
+            if idx < n8 {
+                ek.delta
+            } else {
+                ek.z - self.m.bar_length_m
+            }
+        } else {
+            let si = idx - 2 * n8;
+            self.spring_ext(&self.frames(y), si).0 - self.m.springs[si].end_of_action_m()
+        }
+    }
+
     fn frames(&self, y: &[f64]) -> Vec<Frame> {
         (0..=self.n).map(|b| self.frame(y, b)).collect()
     }
 
     /// All event values into `g`, and the rate δ̇ of every edge's penetration into `gd` (for
-    /// the hidden-contact test). Edges are evaluated exactly, without the bound shortcut.
+    /// the hidden-contact test). Every edge is evaluated exactly (δ and δ̇), touching or not.
     fn events(&self, y: &[f64], g: &mut [f64], gd: &mut [f64]) {
         let frames = self.frames(y);
         let n8 = 8 * self.n;
         for ei in 0..n8 {
             let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
-            let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, None);
+            let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, false);
             g[ei] = ek.delta;
             gd[ei] = ek.delta_dot;
             g[n8 + ei] = ek.z - self.m.bar_length_m;
         }
         for (idx, gi) in g.iter_mut().enumerate().skip(2 * n8) {
-            *gi = self.event_value(y, idx, &frames, None);
+            *gi = self.event_value(y, idx, &frames);
         }
     }
 
@@ -658,7 +830,6 @@ impl<'a> Sim<'a> {
     fn energy(&self, y: &[f64]) -> EnergyAudit {
         let mut e = EnergyAudit::default();
         let frames = self.frames(y);
-        let bounds = self.deflection_bounds(y);
         for (si, s) in self.m.springs.iter().enumerate() {
             if self.released[s.interface] {
                 e.spring_work_j += s.work(self.spring_ext(&frames, si).0);
@@ -699,7 +870,7 @@ impl<'a> Sim<'a> {
                     if self.edges[(i - 1) * 8 + j * 2 + k].past_tip {
                         continue;
                     }
-                    let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, Some(&bounds));
+                    let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, true);
                     if ek.z >= 0.0 && ek.z <= self.m.bar_length_m {
                         e.contact_elastic_j += self.m.contact.elastic_energy(ek.delta);
                     }
@@ -800,6 +971,7 @@ impl<'a> Sim<'a> {
             self.apply_releases(0.0);
             next_release += 1;
         }
+        self.rebuild_static(&y0);
         let mut ig = {
             let this = &*self;
             let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| this.rhs(y, dy);
@@ -898,7 +1070,7 @@ impl<'a> Sim<'a> {
                     {
                         let tm = t0 + th * (t1 - t0);
                         ig.dense(tm, &mut ybuf);
-                        let gm = self.event_value(&ybuf, idx, &self.frames(&ybuf), None);
+                        let gm = self.event_value_at(&ybuf, idx);
                         if gm >= 0.0 {
                             self.transitions.hidden_onsets += 1;
                             let te = self.locate(&ig, idx, t0, tm, g0[idx], gm, &mut ybuf);
@@ -1036,6 +1208,7 @@ impl<'a> Sim<'a> {
             // Release due exactly now.
             if pending && t >= releases[next_release] {
                 self.apply_releases(t);
+                self.rebuild_static(&ig.y);
                 next_release += 1;
                 changed = true;
             }
@@ -1130,7 +1303,7 @@ impl<'a> Sim<'a> {
     /// (δ, δ̇) of edge `ei`.
     fn kin_of(&self, y: &[f64], ei: usize) -> (f64, f64) {
         let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
-        let ek = self.edge_kin(y, &self.frame(y, 0), &self.frame(y, i), i, j, k, None);
+        let ek = self.edge_kin(y, &self.frame(y, 0), &self.frame(y, i), i, j, k, false);
         (ek.delta, ek.delta_dot)
     }
 
@@ -1171,7 +1344,7 @@ impl<'a> Sim<'a> {
                 t = 0.5 * (a + b);
             }
             ig.dense(t, buf);
-            let g = self.event_value(buf, idx, &self.frames(buf), None);
+            let g = self.event_value_at(buf, idx);
             let crossed_here = if g0 < 0.0 { g >= 0.0 } else { g <= 0.0 };
             if crossed_here {
                 b = t;
