@@ -306,15 +306,17 @@ fn closed_bores_brace_a_long_stack() {
     // section: the global mode disappears and only short column segments can buckle, so the
     // factor must exceed 1, and the axial preload path (lateral springs only) stays exact.
     let base = load("test-specs/paper-stack.toml");
-    let long = with_text(&base, "satellites = 6", "satellites = 120");
-    let long = with_text(
-        &long,
-        "bar_length_m = 3.85",
-        &format!("bar_length_m = {}", 3.85 + 114.0 * 0.55),
-    );
+    let text = base
+        .text
+        .replacen("satellites = 6", "satellites = 120", 1)
+        .replacen(
+            "bar_length_m = 3.85",
+            &format!("bar_length_m = {}", 3.85 + 114.0 * 0.55),
+            1,
+        );
+    let long = Scene::parse(&base.path, &text).unwrap();
     let open = satqual::pipeline::modal(&long, None, Some(1))
-        .err()
-        .expect("open bores: beyond the buckling load")
+        .expect_err("open bores: beyond the buckling load")
         .to_string();
     assert!(open.contains("above the stack's buckling load"), "{open}");
     let closed = with_text(
