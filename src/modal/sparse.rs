@@ -1209,19 +1209,7 @@ fn run_slice(
                 // Ritz values over-estimate: a cluster just below the edge may show all its
                 // unconverged values above it. Then aim just below the edge.
                 .or(Some(upper));
-            let q0 = locked.ncols();
-            let g = Mat::<f64>::from_fn(n, got.len(), |i, j| got[j].1[i]);
-            let gm = m.mul(g.as_ref());
-            let mut nl = Mat::<f64>::zeros(n, q0 + got.len());
-            let mut nlm = Mat::<f64>::zeros(n, q0 + got.len());
-            nl.as_mut().subcols_mut(0, q0).copy_from(locked.as_ref());
-            nl.as_mut().subcols_mut(q0, got.len()).copy_from(g.as_ref());
-            nlm.as_mut().subcols_mut(0, q0).copy_from(locked_m.as_ref());
-            nlm.as_mut()
-                .subcols_mut(q0, got.len())
-                .copy_from(gm.as_ref());
-            locked = nl;
-            locked_m = nlm;
+            lock(m, &mut locked, &mut locked_m, &got);
             in_slice.extend(got);
             let need = edge.map(|e| e.1).unwrap_or(c_s) - c_a;
             let mut missing = need.saturating_sub(count_below(&in_slice, upper));
@@ -1245,21 +1233,7 @@ fn run_slice(
                 )?;
                 if !more.is_empty() {
                     stats.clusters += 1;
-                    let q0 = locked.ncols();
-                    let g = Mat::<f64>::from_fn(n, more.len(), |i, j| more[j].1[i]);
-                    let gm = m.mul(g.as_ref());
-                    let mut nl = Mat::<f64>::zeros(n, q0 + more.len());
-                    let mut nlm = Mat::<f64>::zeros(n, q0 + more.len());
-                    nl.as_mut().subcols_mut(0, q0).copy_from(locked.as_ref());
-                    nl.as_mut()
-                        .subcols_mut(q0, more.len())
-                        .copy_from(g.as_ref());
-                    nlm.as_mut().subcols_mut(0, q0).copy_from(locked_m.as_ref());
-                    nlm.as_mut()
-                        .subcols_mut(q0, more.len())
-                        .copy_from(gm.as_ref());
-                    locked = nl;
-                    locked_m = nlm;
+                    lock(m, &mut locked, &mut locked_m, &more);
                     in_slice.extend(more);
                     missing = need.saturating_sub(count_below(&in_slice, upper));
                 }
@@ -1282,6 +1256,21 @@ fn run_slice(
         "shift-invert Lanczos at σ = {s:e} rad²/s²: the slice above {a:e} did not complete after {MAX_RESTARTS} restarts"
     ))
     .into())
+}
+
+/// Appends converged vectors to the locked set, and their M-products to M·locked (only the
+/// new columns are multiplied).
+fn lock(m: &SymCsc, locked: &mut Mat<f64>, locked_m: &mut Mat<f64>, pairs: &[Pair]) {
+    let (n, k) = (m.n, pairs.len());
+    let g = Mat::<f64>::from_fn(n, k, |i, j| pairs[j].1[i]);
+    let gm = m.mul(g.as_ref());
+    for (dst, new) in [(locked, g), (locked_m, gm)] {
+        let q0 = dst.ncols();
+        let mut out = Mat::<f64>::zeros(n, q0 + k);
+        out.as_mut().subcols_mut(0, q0).copy_from(dst.as_ref());
+        out.as_mut().subcols_mut(q0, k).copy_from(new.as_ref());
+        *dst = out;
+    }
 }
 
 /// The missing copies of a tight cluster of (numerically) repeated eigenvalues near `l`, by
