@@ -64,6 +64,10 @@ pub enum ModalError {
         "no buckling factor: the prestress does not destabilise the structure (K_G has no negative direction)"
     )]
     NoBuckling,
+    #[error(
+        "the static loads are above the buckling load (buckling factor {factor:.3}): the structure has no stable modes"
+    )]
+    BeyondBuckling { factor: f64 },
     #[error("{0}")]
     Invalid(String),
 }

@@ -3,7 +3,7 @@
 //! It also maps errors of the numerical layers back to the scene: an FE error that names a
 //! scene node gets that node's file, line and column.
 
-use crate::error::{Error, FemError, SpecError};
+use crate::error::{Error, FemError, ModalError, SpecError};
 use crate::fem::FeModel;
 use crate::modal::{ModalOptions, ModalSystem};
 use crate::spec::Scene;
@@ -30,39 +30,39 @@ pub fn modal_with_solver(
     if let Some(s) = solver {
         spec.solver = s;
     }
+    // A stack's preload above its buckling load is refused as soon as the buckling factor is
+    // known, before any mode of the unstable structure is extracted.
+    let stop_beyond_buckling = scene.file.stack.is_some();
     let opts = match (fmax_hz, modes) {
         (None, None) => ModalOptions {
             fmax_hz: spec.fmax_hz,
             modes: spec.modes,
             solver: spec.solver,
+            stop_beyond_buckling,
         },
         (f, n) => ModalOptions {
             fmax_hz: f,
             modes: n,
             solver: spec.solver,
+            stop_beyond_buckling,
         },
     };
-    let sys = crate::modal::analyze(&model, &opts).map_err(|e| match e {
-        Error::Fem(f) => locate(scene, f),
-        other => other,
+    let sys = crate::modal::analyze(&model, &opts).map_err(|e| match (e, &scene.file.stack) {
+        (Error::Fem(f), _) => locate(scene, f),
+        (Error::Modal(ModalError::BeyondBuckling { factor }), Some(stack)) => scene
+            .locator()
+            .err(
+                "stack.preload_total_n",
+                format!(
+                    "the preload of {:.0} N is above the stack's buckling load of {:.0} N (buckling factor {:.3}): reduce the preload or stiffen the columns",
+                    stack.preload_total_n,
+                    factor * stack.preload_total_n,
+                    factor
+                ),
+            )
+            .into(),
+        (other, _) => other,
     })?;
-    if let (Some(stack), Some(ps)) = (&scene.file.stack, &sys.result.prestress)
-        && let Some(lambda) = ps.buckling_factor
-        && lambda < 1.0
-    {
-        return Err(scene
-                    .locator()
-                    .err(
-                        "stack.preload_total_n",
-                        format!(
-                            "the preload of {:.0} N is above the stack's buckling load of {:.0} N (buckling factor {:.3}): reduce the preload or stiffen the columns",
-                            stack.preload_total_n,
-                            lambda * stack.preload_total_n,
-                            lambda
-                        ),
-                    )
-                    .into());
-    }
     Ok((model, sys))
 }
 

@@ -37,6 +37,7 @@ fn solve(
             fmax_hz: fmax,
             modes,
             solver,
+            stop_beyond_buckling: false,
         },
     )
     .unwrap_or_else(|e| panic!("{solver:?}: {e}"))
@@ -301,6 +302,7 @@ fn prestress_static_solve_and_buckling_agree() {
                 fmax_hz: Some(50.0),
                 modes: None,
                 solver,
+                stop_beyond_buckling: false,
             },
         )
         .unwrap()
@@ -358,6 +360,7 @@ fn sparse_without_a_band_is_refused() {
             fmax_hz: None,
             modes: None,
             solver: SolverChoice::Sparse,
+            stop_beyond_buckling: false,
         },
     )
     .unwrap_err();
@@ -380,6 +383,7 @@ fn sparse_static_solve_names_the_mechanism() {
             fmax_hz: Some(100.0),
             modes: None,
             solver: SolverChoice::Sparse,
+            stop_beyond_buckling: false,
         },
     )
     .unwrap_err();
@@ -403,6 +407,7 @@ fn paper_stack_dense_and_sparse_agree() {
                 fmax_hz: fmax,
                 modes: None,
                 solver,
+                stop_beyond_buckling: false,
             },
         )
         .unwrap()

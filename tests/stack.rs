@@ -348,3 +348,34 @@ fn closed_bores_brace_a_long_stack() {
         .count();
     assert_eq!(contacts, 480);
 }
+
+#[test]
+fn buckling_is_refused_before_the_modes_are_extracted() {
+    // The stop comes from `modal::analyze` itself, right after the buckling solve, so a stack
+    // beyond its buckling load costs no eigen-solve. Without the stop the same model yields
+    // modes and the factor (< 1) for whoever asks for them explicitly.
+    use satqual::error::ModalError;
+    use satqual::modal::{ModalOptions, analyze};
+    let scene = with_text(
+        &load("test-specs/paper-stack.toml"),
+        "preload_total_n = 45000.0",
+        "preload_total_n = 4.5e8",
+    );
+    let model = satqual::pipeline::fe_model(&scene).unwrap();
+    let opts = |stop| ModalOptions {
+        fmax_hz: Some(500.0),
+        modes: None,
+        solver: Default::default(),
+        stop_beyond_buckling: stop,
+    };
+    match analyze(&model, &opts(true)) {
+        Err(satqual::Error::Modal(ModalError::BeyondBuckling { factor })) => {
+            assert!(factor > 0.0 && factor < 1.0, "factor {factor}")
+        }
+        Err(e) => panic!("expected BeyondBuckling, got {e}"),
+        Ok(_) => panic!("expected BeyondBuckling, got modes"),
+    }
+    let sys = analyze(&model, &opts(false)).unwrap_or_else(|e| panic!("{e}"));
+    let factor = sys.result.prestress.unwrap().buckling_factor.unwrap();
+    assert!(factor < 1.0, "factor {factor}");
+}

@@ -30,6 +30,10 @@ pub struct ModalOptions {
     pub fmax_hz: Option<f64>,
     pub modes: Option<usize>,
     pub solver: SolverChoice,
+    /// Refuse a prestress above the buckling load right after the buckling solve, with
+    /// [`ModalError::BeyondBuckling`], instead of extracting the modes of an unstable
+    /// structure first (the open-bore 120-satellite stack spent ~20 s on 5476 of them).
+    pub stop_beyond_buckling: bool,
 }
 
 /// Six rigid-body directions, in the order x, y, z, rx, ry, rz.
@@ -240,6 +244,12 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
                     .map_err(|_| ModalError::NoConvergence("buckling".into()))?
             }
         };
+        if opts.stop_beyond_buckling
+            && let Some(factor) = lambda
+            && factor < 1.0
+        {
+            return Err(ModalError::BeyondBuckling { factor }.into());
+        }
         let mut members: Vec<MemberForce> = Vec::new();
         for (e, b) in model.beams.iter().enumerate() {
             if members.len() <= b.member {
@@ -378,8 +388,11 @@ pub fn modal_result(
     }
     let pairs = align_degenerate(pairs, &md);
     let two_pi = 2.0 * std::f64::consts::PI;
+    use rayon::prelude::*;
+    // Per mode and independent, so in parallel (2772 modes of 6200 DOFs on the 60-satellite
+    // stack); the collected order is the input order whatever the thread count.
     let modes = pairs
-        .into_iter()
+        .into_par_iter()
         .enumerate()
         .map(|(idx, (lambda, mut shape))| {
             // Sign convention: the largest-magnitude component (first one on ties) is positive.
