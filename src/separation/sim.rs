@@ -381,20 +381,41 @@ impl<'a> Sim<'a> {
         if let Some(bar) = &self.m.bars {
             bar.eval_phi(pl[2], &mut r.phi);
         }
-        if touching_only && !self.may_touch(y, j, &r) {
-            return EdgeKin::apart(pl[2]);
-        }
-        let mut ek = self.edge_bar(y, j, &r, touching_only);
-        if touching_only && ek.delta <= 0.0 {
-            return ek;
+        if touching_only {
+            if !self.may_touch(y, j, &r) {
+                return EdgeKin::apart(pl[2]);
+            }
+            let ek = self.edge_bar(y, j, &r, true);
+            if ek.delta <= 0.0 {
+                return ek;
+            }
         }
         // Slopes and velocities enter δ̇ only: finish the edge with them.
         if let Some(bar) = &self.m.bars {
             bar.eval_dphi(pl[2], &mut r.dphi);
         }
         self.edge_velocity(c0, s, rb, &mut r);
-        ek = self.edge_bar(y, j, &r, false);
-        ek
+        self.edge_bar(y, j, &r, false)
+    }
+
+    /// (δ, δ̇, height) of edge `ei`, exactly, as [`Self::edge_kin`] without `touching_only`
+    /// gives them (same formulas, same order), without its intermediate results.
+    #[inline]
+    fn edge_event(&self, y: &[f64], c0: &Frame, s: &Frame, ei: usize) -> (f64, f64, f64) {
+        let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
+        let built;
+        let r = match &self.static_edges[ei] {
+            Some(r) => r,
+            None => {
+                let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
+                let p = add(s.x, rb);
+                let pl = mul_t(&c0.r, sub(p, c0.x));
+                built = self.edge_rigid(c0, s, rb, p, pl);
+                &built
+            }
+        };
+        let ek = self.edge_bar(y, j, r, false);
+        (ek.delta, ek.delta_dot, ek.z)
     }
 
     /// The rigid-body part of an edge's kinematics, from its offset `rb` (world axes), point
@@ -434,15 +455,20 @@ impl<'a> Sim<'a> {
     /// Offset from the edge point to the deflected centreline of bar `j`, carrier x and y.
     #[inline(always)]
     fn edge_offset(&self, y: &[f64], j: usize, r: &EdgeRigid) -> [f64; 2] {
-        let pl = r.pl;
+        self.offset_at(y, j, r.pl, &r.phi)
+    }
+
+    /// [`Self::edge_offset`] of an edge point `pl` (carrier frame) with mode shapes `phi` there.
+    #[inline(always)]
+    fn offset_at(&self, y: &[f64], j: usize, pl: V3, phi: &[f64; MAX_BAR_MODES]) -> [f64; 2] {
         let col = self.m.columns_xy[j];
         let mut u = [0.0; 2];
         if self.m.bars.is_some() {
             let q = &y[self.qidx(j, 0, 0)..self.qidx(j, 2, 0)];
             let (qx, qy) = q.split_at(self.nm);
             for mo in 0..self.nm {
-                u[0] += r.phi[mo] * qx[mo];
-                u[1] += r.phi[mo] * qy[mo];
+                u[0] += phi[mo] * qx[mo];
+                u[1] += phi[mo] * qy[mo];
             }
         }
         [col[0] + u[0] - pl[0], col[1] + u[1] - pl[1]]
@@ -501,6 +527,7 @@ impl<'a> Sim<'a> {
     /// Rebuilds the caches of the bodies that do not move, after a change of `free`. A body
     /// that is not free has a zero derivative, so its state stays bit-for-bit what it is now.
     fn rebuild_static(&mut self, y: &[f64]) {
+        self.scratch.get_mut().frames.clear();
         for b in 0..=self.n {
             self.static_frames[b] = None;
         }
@@ -562,8 +589,18 @@ impl<'a> Sim<'a> {
         force.resize(nb, [0.0; 3]);
         torque.clear();
         torque.resize(nb, [0.0; 3]);
-        frames.clear();
-        frames.extend((0..nb).map(|b| self.frame(y, b)));
+        // The frames of bodies that do not move stay from call to call (`rebuild_static`
+        // empties the buffer when the set changes).
+        if frames.len() != nb {
+            frames.clear();
+            frames.extend((0..nb).map(|b| self.frame(y, b)));
+        } else {
+            for (b, f) in frames.iter_mut().enumerate() {
+                if self.static_frames[b].is_none() {
+                    *f = self.frame_of(y, b);
+                }
+            }
+        }
         let frames = &*frames;
         let apply = |b: usize, f: V3, at: V3, force: &mut Vec<V3>, torque: &mut Vec<V3>| {
             force[b] = add(force[b], f);
@@ -612,6 +649,19 @@ impl<'a> Sim<'a> {
                         }
                         self.edge_bar(y, j, r, false)
                     } else {
+                        // The same test for a moving edge, from its point and mode shapes
+                        // only (the formulas of `edge_kin`, which redoes them for the few
+                        // edges that may touch).
+                        let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
+                        let pl = mul_t(&c0.r, sub(add(s.x, rb), c0.x));
+                        let mut phi = [0.0; MAX_BAR_MODES];
+                        if let Some(bar) = &self.m.bars {
+                            bar.eval_phi(pl[2], &mut phi);
+                        }
+                        let e = self.offset_at(y, j, pl, &phi);
+                        if e[0] * e[0] + e[1] * e[1] < self.clearance_sq_safe {
+                            continue;
+                        }
                         self.edge_kin(y, c0, s, i, j, k, true)
                     };
                     if ek.delta <= 0.0 || ek.z < 0.0 || ek.z > len {
@@ -768,11 +818,15 @@ impl<'a> Sim<'a> {
         let frames = self.frames(y);
         let n8 = 8 * self.n;
         for ei in 0..n8 {
-            let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
-            let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, false);
-            g[ei] = ek.delta;
-            gd[ei] = ek.delta_dot;
-            g[n8 + ei] = ek.z - self.m.bar_length_m;
+            // `crossed`, the hidden-contact test and the state maintenance skip an edge past
+            // the tip: its values are never read.
+            if self.edges[ei].past_tip {
+                continue;
+            }
+            let (delta, delta_dot, z) = self.edge_event(y, &frames[0], &frames[ei / 8 + 1], ei);
+            g[ei] = delta;
+            gd[ei] = delta_dot;
+            g[n8 + ei] = z - self.m.bar_length_m;
         }
         for (idx, gi) in g.iter_mut().enumerate().skip(2 * n8) {
             *gi = self.event_value(y, idx, &frames);
