@@ -466,9 +466,10 @@ impl<'a> Sim<'a> {
         if self.m.bars.is_some() {
             let q = &y[self.qidx(j, 0, 0)..self.qidx(j, 2, 0)];
             let (qx, qy) = q.split_at(self.nm);
-            for mo in 0..self.nm {
-                u[0] += phi[mo] * qx[mo];
-                u[1] += phi[mo] * qy[mo];
+            // Zipped: no bounds check per mode (this runs for every edge in every call).
+            for ((p, a), b) in phi.iter().zip(qx).zip(qy) {
+                u[0] += p * a;
+                u[1] += p * b;
             }
         }
         [col[0] + u[0] - pl[0], col[1] + u[1] - pl[1]]
