@@ -669,8 +669,7 @@ impl<'a> Sim<'a> {
                         continue;
                     }
                     let v_imp = ec.impact_speed.unwrap_or(c.min_impact_speed);
-                    let fnrm = c.normal_force(ek.delta, ek.delta_dot, v_imp);
-                    let fel = c.stiffness * ek.delta.powf(c.exponent);
+                    let (fnrm, fel) = c.normal_and_elastic(ek.delta, ek.delta_dot, v_imp);
                     p_contact += (fnrm - fel) * ek.delta_dot;
                     let n = ek.n;
                     // −F·∇δ: lateral along n, axial from the bar slope.
