@@ -154,6 +154,8 @@ struct Sim<'a> {
     static_edges: Vec<Option<EdgeRigid>>,
     /// c²(1 − 1e-12): below it an edge certainly does not touch.
     clearance_sq_safe: f64,
+    /// The carrier is fixed, at the origin, with the identity attitude (see `to_carrier`).
+    carrier_at_rest: bool,
     scratch: std::cell::RefCell<Scratch>,
 }
 
@@ -279,6 +281,7 @@ impl<'a> Sim<'a> {
             static_frames: vec![None; n + 1],
             static_edges: vec![None; 8 * n],
             clearance_sq_safe: m.clearance_m * m.clearance_m * (1.0 - 1e-12),
+            carrier_at_rest: false,
             scratch: Default::default(),
         }
     }
@@ -369,7 +372,7 @@ impl<'a> Sim<'a> {
         }
         let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
         let p = add(s.x, rb);
-        let pl = mul_t(&c0.r, sub(p, c0.x));
+        let pl = self.to_carrier(c0, p);
         let mut r = EdgeRigid {
             p,
             pl,
@@ -409,7 +412,7 @@ impl<'a> Sim<'a> {
             None => {
                 let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
                 let p = add(s.x, rb);
-                let pl = mul_t(&c0.r, sub(p, c0.x));
+                let pl = self.to_carrier(c0, p);
                 built = self.edge_rigid(c0, s, rb, p, pl);
                 &built
             }
@@ -440,7 +443,23 @@ impl<'a> Sim<'a> {
     #[inline]
     fn edge_velocity(&self, c0: &Frame, s: &Frame, rb: V3, r: &mut EdgeRigid) {
         r.vp = add(s.v, cross(s.w, rb));
-        r.vrel = mul_t(&c0.r, sub(sub(r.vp, c0.v), cross(c0.w, sub(r.p, c0.x))));
+        r.vrel = if self.carrier_at_rest {
+            r.vp
+        } else {
+            mul_t(&c0.r, sub(sub(r.vp, c0.v), cross(c0.w, sub(r.p, c0.x))))
+        };
+    }
+
+    /// A world point in the carrier frame. A fixed carrier at the origin with the identity
+    /// attitude (the usual case) maps every finite point onto itself exactly, so the transform
+    /// is skipped: it runs for every moving edge in every right-hand side.
+    #[inline(always)]
+    fn to_carrier(&self, c0: &Frame, p: V3) -> V3 {
+        if self.carrier_at_rest {
+            p
+        } else {
+            mul_t(&c0.r, sub(p, c0.x))
+        }
     }
 
     /// False when the edge certainly does not touch (δ < 0), decided without the square root
@@ -529,6 +548,7 @@ impl<'a> Sim<'a> {
     /// that is not free has a zero derivative, so its state stays bit-for-bit what it is now.
     fn rebuild_static(&mut self, y: &[f64]) {
         self.scratch.get_mut().frames.clear();
+        self.carrier_at_rest = false;
         for b in 0..=self.n {
             self.static_frames[b] = None;
         }
@@ -545,13 +565,16 @@ impl<'a> Sim<'a> {
             }
         }
         let c0 = frames[0].expect("the carrier is fixed");
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        self.carrier_at_rest =
+            c0.r == identity && c0.x == [0.0; 3] && c0.v == [0.0; 3] && c0.w == [0.0; 3];
         for i in 1..=self.n {
             let Some(s) = frames[i] else { continue };
             for j in 0..4 {
                 for k in 0..2 {
                     let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
                     let p = add(s.x, rb);
-                    let pl = mul_t(&c0.r, sub(p, c0.x));
+                    let pl = self.to_carrier(&c0, p);
                     self.static_edges[(i - 1) * 8 + j * 2 + k] =
                         Some(self.edge_rigid(&c0, &s, rb, p, pl));
                 }
@@ -654,7 +677,7 @@ impl<'a> Sim<'a> {
                         // only (the formulas of `edge_kin`, which redoes them for the few
                         // edges that may touch).
                         let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
-                        let pl = mul_t(&c0.r, sub(add(s.x, rb), c0.x));
+                        let pl = self.to_carrier(c0, add(s.x, rb));
                         let mut phi = [0.0; MAX_BAR_MODES];
                         if let Some(bar) = &self.m.bars {
                             bar.eval_phi(pl[2], &mut phi);
