@@ -88,6 +88,8 @@ pub struct Dopri5 {
     h_last: f64,
     facold: f64,
     ytmp: Vec<f64>,
+    /// Squared weighted errors of the last attempt, per component.
+    err_sq: Vec<f64>,
     pub stats: Stats,
 }
 
@@ -118,6 +120,7 @@ impl Dopri5 {
             h_last: 0.0,
             facold: 1e-4,
             ytmp: z(),
+            err_sq: z(),
             stats: Stats::default(),
         };
         s.refresh(f);
@@ -252,13 +255,19 @@ impl Dopri5 {
         self.stats.rhs_evals += 6;
         let (yt_n, atol) = (&yt[..n], &self.atol[..n]);
         let (k0, k2, k3, k4, k5, k6) = (&k0[..n], &k2[..n], &k3[..n], &k4[..n], &k5[..n], &k6[..n]);
-        let mut s = 0.0;
+        // The squares first (a loop without a carried dependency, so the divisions
+        // vectorise), then their sum in the same order as before.
+        let sq = &mut self.err_sq[..n];
         for i in 0..n {
             let e =
                 h * (E1 * k0[i] + E3 * k2[i] + E4 * k3[i] + E5 * k4[i] + E6 * k5[i] + E7 * k6[i]);
             let sc = atol[i] + self.rtol * y[i].abs().max(yt_n[i].abs());
             let r = e / sc;
-            s += r * r;
+            sq[i] = r * r;
+        }
+        let mut s = 0.0;
+        for v in sq.iter() {
+            s += v;
         }
         self.ytmp = yt;
         (s / n as f64).sqrt()
@@ -290,10 +299,11 @@ impl Dopri5 {
             r4[i] =
                 h * (D1 * k0[i] + D3 * k2[i] + D4 * k3[i] + D5 * k4[i] + D6 * k5[i] + D7 * k6[i]);
         }
-        self.y_prev.copy_from_slice(&self.y);
+        // Buffer swaps, not copies: `ytmp` and stage 6 are scratch until the next attempt.
+        std::mem::swap(&mut self.y_prev, &mut self.y);
         self.t_prev = self.t;
-        self.y.copy_from_slice(&self.ytmp);
-        self.f0.copy_from_slice(&self.k[6]);
+        std::mem::swap(&mut self.y, &mut self.ytmp);
+        std::mem::swap(&mut self.f0, &mut self.k[6]);
         self.t += h;
         self.h_last = h;
         self.stats.steps += 1;

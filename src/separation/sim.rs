@@ -152,6 +152,9 @@ struct Sim<'a> {
     static_frames: Vec<Option<Frame>>,
     /// Rigid-body kinematics of the edges of latched satellites, by edge.
     static_edges: Vec<Option<EdgeRigid>>,
+    /// Lower spring points of springs whose lower body does not move, by spring (computed
+    /// as `spring_ext` would from the same frame).
+    static_spring_low: Vec<Option<V3>>,
     /// c²(1 − 1e-12): below it an edge certainly does not touch.
     clearance_sq_safe: f64,
     /// The carrier is fixed, at the origin, with the identity attitude (see `to_carrier`).
@@ -280,6 +283,7 @@ impl<'a> Sim<'a> {
             e_ref: m.spring_energy_j().max(1e-30),
             static_frames: vec![None; n + 1],
             static_edges: vec![None; 8 * n],
+            static_spring_low: vec![None; m.springs.len()],
             clearance_sq_safe: m.clearance_m * m.clearance_m * (1.0 - 1e-12),
             carrier_at_rest: false,
             scratch: Default::default(),
@@ -555,6 +559,7 @@ impl<'a> Sim<'a> {
         for e in self.static_edges.iter_mut() {
             *e = None;
         }
+        self.static_spring_low.fill(None);
         if self.free[0] {
             return;
         }
@@ -580,6 +585,11 @@ impl<'a> Sim<'a> {
                 }
             }
         }
+        for (si, s) in self.m.springs.iter().enumerate() {
+            if let Some(low) = frames[self.lower_body(s.interface)] {
+                self.static_spring_low[si] = Some(add(low.x, mul(&low.r, self.spring_low[si])));
+            }
+        }
         self.static_frames = frames;
     }
 
@@ -594,7 +604,8 @@ impl<'a> Sim<'a> {
         let up = &frames[s.interface];
         let low = &frames[self.lower_body(s.interface)];
         let pu = add(up.x, mul(&up.r, self.spring_up[si]));
-        let pl = add(low.x, mul(&low.r, self.spring_low[si]));
+        let pl = self.static_spring_low[si]
+            .unwrap_or_else(|| add(low.x, mul(&low.r, self.spring_low[si])));
         let zl = [low.r[0][2], low.r[1][2], low.r[2][2]];
         (dot(sub(pu, pl), zl), pu, zl)
     }
