@@ -79,6 +79,8 @@ pub struct ModalBar {
     inv_h: f64,
     /// Stations − 1.
     intervals: usize,
+    /// h · intervals: the sampled length.
+    z_max: f64,
 }
 
 impl ModalBar {
@@ -146,6 +148,7 @@ impl ModalBar {
             h,
             inv_h: 1.0 / h,
             intervals,
+            z_max: h * intervals as f64,
         })
     }
 
@@ -163,7 +166,15 @@ impl ModalBar {
     /// The interval of height z (clamped to the bar) and the local coordinate in it.
     #[inline]
     fn interval(&self, z: f64) -> (usize, f64) {
-        let x = z.clamp(0.0, self.h * self.intervals as f64);
+        // `clamp` by hand: the same result for every z (NaN included), without its assertion
+        // and the product, in the innermost call of the right-hand side.
+        let x = if z < 0.0 {
+            0.0
+        } else if z > self.z_max {
+            self.z_max
+        } else {
+            z
+        };
         let i = ((x * self.inv_h) as usize).min(self.intervals - 1);
         (i, x - i as f64 * self.h)
     }

@@ -31,12 +31,19 @@ impl ContactParams {
     /// go below −Kδⁿ near the end of a low-Ce impact).
     #[inline]
     pub fn normal_force(&self, delta: f64, delta_dot: f64, impact_speed: f64) -> f64 {
+        self.normal_and_elastic(delta, delta_dot, impact_speed).0
+    }
+
+    /// [`Self::normal_force`] and its elastic part K δⁿ, from one power (the right-hand side
+    /// needs both for the damping power of the audit).
+    #[inline]
+    pub fn normal_and_elastic(&self, delta: f64, delta_dot: f64, impact_speed: f64) -> (f64, f64) {
         if delta <= 0.0 {
-            return 0.0;
+            return (0.0, 0.0);
         }
         let kd = self.stiffness * delta.powf(self.exponent);
         let damp = 3.0 * (1.0 - self.restitution * self.restitution) / (4.0 * impact_speed);
-        (kd * (1.0 + damp * delta_dot)).max(0.0)
+        ((kd * (1.0 + damp * delta_dot)).max(0.0), kd)
     }
 
     /// Elastic energy stored in the contact spring, ∫K δⁿ dδ.

@@ -88,6 +88,8 @@ pub struct Dopri5 {
     h_last: f64,
     facold: f64,
     ytmp: Vec<f64>,
+    /// Squared weighted errors of the last attempt, per component.
+    err_sq: Vec<f64>,
     pub stats: Stats,
 }
 
@@ -118,6 +120,7 @@ impl Dopri5 {
             h_last: 0.0,
             facold: 1e-4,
             ytmp: z(),
+            err_sq: z(),
             stats: Stats::default(),
         };
         s.refresh(f);
@@ -186,59 +189,85 @@ impl Dopri5 {
         let n = self.y.len();
         let t = self.t;
         self.k[0].copy_from_slice(&self.f0);
-        let y = &self.y;
+        let y = &self.y[..n];
         let mut yt = std::mem::take(&mut self.ytmp);
-        for i in 0..n {
-            yt[i] = y[i] + h * A21 * self.k[0][i];
+        let [k0, k1, k2, k3, k4, k5, k6] = &mut self.k;
+        // Every slice cut to n so that the loops compile without bounds checks (and
+        // vectorise); each element is the same expression as in dopri5.f.
+        {
+            let (yt, k0) = (&mut yt[..n], &k0[..n]);
+            for i in 0..n {
+                yt[i] = y[i] + h * A21 * k0[i];
+            }
         }
-        f(t + C2 * h, &yt, &mut self.k[1]);
-        for i in 0..n {
-            yt[i] = y[i] + h * (A31 * self.k[0][i] + A32 * self.k[1][i]);
+        f(t + C2 * h, &yt, k1);
+        {
+            let (yt, k0, k1) = (&mut yt[..n], &k0[..n], &k1[..n]);
+            for i in 0..n {
+                yt[i] = y[i] + h * (A31 * k0[i] + A32 * k1[i]);
+            }
         }
-        f(t + C3 * h, &yt, &mut self.k[2]);
-        for i in 0..n {
-            yt[i] = y[i] + h * (A41 * self.k[0][i] + A42 * self.k[1][i] + A43 * self.k[2][i]);
+        f(t + C3 * h, &yt, k2);
+        {
+            let (yt, k0, k1, k2) = (&mut yt[..n], &k0[..n], &k1[..n], &k2[..n]);
+            for i in 0..n {
+                yt[i] = y[i] + h * (A41 * k0[i] + A42 * k1[i] + A43 * k2[i]);
+            }
         }
-        f(t + C4 * h, &yt, &mut self.k[3]);
-        for i in 0..n {
-            yt[i] = y[i]
-                + h * (A51 * self.k[0][i]
-                    + A52 * self.k[1][i]
-                    + A53 * self.k[2][i]
-                    + A54 * self.k[3][i]);
+        f(t + C4 * h, &yt, k3);
+        {
+            let (yt, k0, k1, k2, k3) = (&mut yt[..n], &k0[..n], &k1[..n], &k2[..n], &k3[..n]);
+            for i in 0..n {
+                yt[i] = y[i] + h * (A51 * k0[i] + A52 * k1[i] + A53 * k2[i] + A54 * k3[i]);
+            }
         }
-        f(t + C5 * h, &yt, &mut self.k[4]);
-        for i in 0..n {
-            yt[i] = y[i]
-                + h * (A61 * self.k[0][i]
-                    + A62 * self.k[1][i]
-                    + A63 * self.k[2][i]
-                    + A64 * self.k[3][i]
-                    + A65 * self.k[4][i]);
+        f(t + C5 * h, &yt, k4);
+        {
+            let (yt, k0, k1, k2, k3, k4) = (
+                &mut yt[..n],
+                &k0[..n],
+                &k1[..n],
+                &k2[..n],
+                &k3[..n],
+                &k4[..n],
+            );
+            for i in 0..n {
+                yt[i] = y[i]
+                    + h * (A61 * k0[i] + A62 * k1[i] + A63 * k2[i] + A64 * k3[i] + A65 * k4[i]);
+            }
         }
-        f(t + h, &yt, &mut self.k[5]);
-        for i in 0..n {
-            yt[i] = y[i]
-                + h * (A71 * self.k[0][i]
-                    + A73 * self.k[2][i]
-                    + A74 * self.k[3][i]
-                    + A75 * self.k[4][i]
-                    + A76 * self.k[5][i]);
+        f(t + h, &yt, k5);
+        {
+            let (yt, k0, k2, k3, k4, k5) = (
+                &mut yt[..n],
+                &k0[..n],
+                &k2[..n],
+                &k3[..n],
+                &k4[..n],
+                &k5[..n],
+            );
+            for i in 0..n {
+                yt[i] = y[i]
+                    + h * (A71 * k0[i] + A73 * k2[i] + A74 * k3[i] + A75 * k4[i] + A76 * k5[i]);
+            }
         }
-        f(t + h, &yt, &mut self.k[6]);
+        f(t + h, &yt, k6);
         self.stats.rhs_evals += 6;
-        let mut s = 0.0;
+        let (yt_n, atol) = (&yt[..n], &self.atol[..n]);
+        let (k0, k2, k3, k4, k5, k6) = (&k0[..n], &k2[..n], &k3[..n], &k4[..n], &k5[..n], &k6[..n]);
+        // The squares first (a loop without a carried dependency, so the divisions
+        // vectorise), then their sum in the same order as before.
+        let sq = &mut self.err_sq[..n];
         for i in 0..n {
-            let e = h
-                * (E1 * self.k[0][i]
-                    + E3 * self.k[2][i]
-                    + E4 * self.k[3][i]
-                    + E5 * self.k[4][i]
-                    + E6 * self.k[5][i]
-                    + E7 * self.k[6][i]);
-            let sc = self.atol[i] + self.rtol * y[i].abs().max(yt[i].abs());
+            let e =
+                h * (E1 * k0[i] + E3 * k2[i] + E4 * k3[i] + E5 * k4[i] + E6 * k5[i] + E7 * k6[i]);
+            let sc = atol[i] + self.rtol * y[i].abs().max(yt_n[i].abs());
             let r = e / sc;
-            s += r * r;
+            sq[i] = r * r;
+        }
+        let mut s = 0.0;
+        for v in sq.iter() {
+            s += v;
         }
         self.ytmp = yt;
         (s / n as f64).sqrt()
@@ -247,27 +276,34 @@ impl Dopri5 {
     /// Moves to the end of an attempted step of size h and builds the dense output.
     fn commit(&mut self, h: f64) {
         let n = self.y.len();
+        let (y, yt) = (&self.y[..n], &self.ytmp[..n]);
+        let [k0, _, k2, k3, k4, k5, k6] = &self.k;
+        let (k0, k2, k3, k4, k5, k6) = (&k0[..n], &k2[..n], &k3[..n], &k4[..n], &k5[..n], &k6[..n]);
+        let [r0, r1, r2, r3, r4] = &mut self.rcont;
+        let (r0, r1, r2, r3, r4) = (
+            &mut r0[..n],
+            &mut r1[..n],
+            &mut r2[..n],
+            &mut r3[..n],
+            &mut r4[..n],
+        );
         for i in 0..n {
-            let y0 = self.y[i];
-            let y1 = self.ytmp[i];
+            let y0 = y[i];
+            let y1 = yt[i];
             let dy = y1 - y0;
-            let bspl = h * self.k[0][i] - dy;
-            self.rcont[0][i] = y0;
-            self.rcont[1][i] = dy;
-            self.rcont[2][i] = bspl;
-            self.rcont[3][i] = dy - h * self.k[6][i] - bspl;
-            self.rcont[4][i] = h
-                * (D1 * self.k[0][i]
-                    + D3 * self.k[2][i]
-                    + D4 * self.k[3][i]
-                    + D5 * self.k[4][i]
-                    + D6 * self.k[5][i]
-                    + D7 * self.k[6][i]);
+            let bspl = h * k0[i] - dy;
+            r0[i] = y0;
+            r1[i] = dy;
+            r2[i] = bspl;
+            r3[i] = dy - h * k6[i] - bspl;
+            r4[i] =
+                h * (D1 * k0[i] + D3 * k2[i] + D4 * k3[i] + D5 * k4[i] + D6 * k5[i] + D7 * k6[i]);
         }
-        self.y_prev.copy_from_slice(&self.y);
+        // Buffer swaps, not copies: `ytmp` and stage 6 are scratch until the next attempt.
+        std::mem::swap(&mut self.y_prev, &mut self.y);
         self.t_prev = self.t;
-        self.y.copy_from_slice(&self.ytmp);
-        self.f0.copy_from_slice(&self.k[6]);
+        std::mem::swap(&mut self.y, &mut self.ytmp);
+        std::mem::swap(&mut self.f0, &mut self.k[6]);
         self.t += h;
         self.h_last = h;
         self.stats.steps += 1;

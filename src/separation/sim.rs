@@ -152,8 +152,13 @@ struct Sim<'a> {
     static_frames: Vec<Option<Frame>>,
     /// Rigid-body kinematics of the edges of latched satellites, by edge.
     static_edges: Vec<Option<EdgeRigid>>,
+    /// Lower spring points of springs whose lower body does not move, by spring (computed
+    /// as `spring_ext` would from the same frame).
+    static_spring_low: Vec<Option<V3>>,
     /// c²(1 − 1e-12): below it an edge certainly does not touch.
     clearance_sq_safe: f64,
+    /// The carrier is fixed, at the origin, with the identity attitude (see `to_carrier`).
+    carrier_at_rest: bool,
     scratch: std::cell::RefCell<Scratch>,
 }
 
@@ -278,7 +283,9 @@ impl<'a> Sim<'a> {
             e_ref: m.spring_energy_j().max(1e-30),
             static_frames: vec![None; n + 1],
             static_edges: vec![None; 8 * n],
+            static_spring_low: vec![None; m.springs.len()],
             clearance_sq_safe: m.clearance_m * m.clearance_m * (1.0 - 1e-12),
+            carrier_at_rest: false,
             scratch: Default::default(),
         }
     }
@@ -369,7 +376,7 @@ impl<'a> Sim<'a> {
         }
         let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
         let p = add(s.x, rb);
-        let pl = mul_t(&c0.r, sub(p, c0.x));
+        let pl = self.to_carrier(c0, p);
         let mut r = EdgeRigid {
             p,
             pl,
@@ -381,20 +388,41 @@ impl<'a> Sim<'a> {
         if let Some(bar) = &self.m.bars {
             bar.eval_phi(pl[2], &mut r.phi);
         }
-        if touching_only && !self.may_touch(y, j, &r) {
-            return EdgeKin::apart(pl[2]);
-        }
-        let mut ek = self.edge_bar(y, j, &r, touching_only);
-        if touching_only && ek.delta <= 0.0 {
-            return ek;
+        if touching_only {
+            if !self.may_touch(y, j, &r) {
+                return EdgeKin::apart(pl[2]);
+            }
+            let ek = self.edge_bar(y, j, &r, true);
+            if ek.delta <= 0.0 {
+                return ek;
+            }
         }
         // Slopes and velocities enter δ̇ only: finish the edge with them.
         if let Some(bar) = &self.m.bars {
             bar.eval_dphi(pl[2], &mut r.dphi);
         }
         self.edge_velocity(c0, s, rb, &mut r);
-        ek = self.edge_bar(y, j, &r, false);
-        ek
+        self.edge_bar(y, j, &r, false)
+    }
+
+    /// (δ, δ̇, height) of edge `ei`, exactly, as [`Self::edge_kin`] without `touching_only`
+    /// gives them (same formulas, same order), without its intermediate results.
+    #[inline]
+    fn edge_event(&self, y: &[f64], c0: &Frame, s: &Frame, ei: usize) -> (f64, f64, f64) {
+        let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
+        let built;
+        let r = match &self.static_edges[ei] {
+            Some(r) => r,
+            None => {
+                let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
+                let p = add(s.x, rb);
+                let pl = self.to_carrier(c0, p);
+                built = self.edge_rigid(c0, s, rb, p, pl);
+                &built
+            }
+        };
+        let ek = self.edge_bar(y, j, r, false);
+        (ek.delta, ek.delta_dot, ek.z)
     }
 
     /// The rigid-body part of an edge's kinematics, from its offset `rb` (world axes), point
@@ -419,7 +447,23 @@ impl<'a> Sim<'a> {
     #[inline]
     fn edge_velocity(&self, c0: &Frame, s: &Frame, rb: V3, r: &mut EdgeRigid) {
         r.vp = add(s.v, cross(s.w, rb));
-        r.vrel = mul_t(&c0.r, sub(sub(r.vp, c0.v), cross(c0.w, sub(r.p, c0.x))));
+        r.vrel = if self.carrier_at_rest {
+            r.vp
+        } else {
+            mul_t(&c0.r, sub(sub(r.vp, c0.v), cross(c0.w, sub(r.p, c0.x))))
+        };
+    }
+
+    /// A world point in the carrier frame. A fixed carrier at the origin with the identity
+    /// attitude (the usual case) maps every finite point onto itself exactly, so the transform
+    /// is skipped: it runs for every moving edge in every right-hand side.
+    #[inline(always)]
+    fn to_carrier(&self, c0: &Frame, p: V3) -> V3 {
+        if self.carrier_at_rest {
+            p
+        } else {
+            mul_t(&c0.r, sub(p, c0.x))
+        }
     }
 
     /// False when the edge certainly does not touch (δ < 0), decided without the square root
@@ -434,15 +478,21 @@ impl<'a> Sim<'a> {
     /// Offset from the edge point to the deflected centreline of bar `j`, carrier x and y.
     #[inline(always)]
     fn edge_offset(&self, y: &[f64], j: usize, r: &EdgeRigid) -> [f64; 2] {
-        let pl = r.pl;
+        self.offset_at(y, j, r.pl, &r.phi)
+    }
+
+    /// [`Self::edge_offset`] of an edge point `pl` (carrier frame) with mode shapes `phi` there.
+    #[inline(always)]
+    fn offset_at(&self, y: &[f64], j: usize, pl: V3, phi: &[f64; MAX_BAR_MODES]) -> [f64; 2] {
         let col = self.m.columns_xy[j];
         let mut u = [0.0; 2];
         if self.m.bars.is_some() {
             let q = &y[self.qidx(j, 0, 0)..self.qidx(j, 2, 0)];
             let (qx, qy) = q.split_at(self.nm);
-            for mo in 0..self.nm {
-                u[0] += r.phi[mo] * qx[mo];
-                u[1] += r.phi[mo] * qy[mo];
+            // Zipped: no bounds check per mode (this runs for every edge in every call).
+            for ((p, a), b) in phi.iter().zip(qx).zip(qy) {
+                u[0] += p * a;
+                u[1] += p * b;
             }
         }
         [col[0] + u[0] - pl[0], col[1] + u[1] - pl[1]]
@@ -501,12 +551,15 @@ impl<'a> Sim<'a> {
     /// Rebuilds the caches of the bodies that do not move, after a change of `free`. A body
     /// that is not free has a zero derivative, so its state stays bit-for-bit what it is now.
     fn rebuild_static(&mut self, y: &[f64]) {
+        self.scratch.get_mut().frames.clear();
+        self.carrier_at_rest = false;
         for b in 0..=self.n {
             self.static_frames[b] = None;
         }
         for e in self.static_edges.iter_mut() {
             *e = None;
         }
+        self.static_spring_low.fill(None);
         if self.free[0] {
             return;
         }
@@ -517,16 +570,24 @@ impl<'a> Sim<'a> {
             }
         }
         let c0 = frames[0].expect("the carrier is fixed");
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        self.carrier_at_rest =
+            c0.r == identity && c0.x == [0.0; 3] && c0.v == [0.0; 3] && c0.w == [0.0; 3];
         for i in 1..=self.n {
             let Some(s) = frames[i] else { continue };
             for j in 0..4 {
                 for k in 0..2 {
                     let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
                     let p = add(s.x, rb);
-                    let pl = mul_t(&c0.r, sub(p, c0.x));
+                    let pl = self.to_carrier(&c0, p);
                     self.static_edges[(i - 1) * 8 + j * 2 + k] =
                         Some(self.edge_rigid(&c0, &s, rb, p, pl));
                 }
+            }
+        }
+        for (si, s) in self.m.springs.iter().enumerate() {
+            if let Some(low) = frames[self.lower_body(s.interface)] {
+                self.static_spring_low[si] = Some(add(low.x, mul(&low.r, self.spring_low[si])));
             }
         }
         self.static_frames = frames;
@@ -543,7 +604,8 @@ impl<'a> Sim<'a> {
         let up = &frames[s.interface];
         let low = &frames[self.lower_body(s.interface)];
         let pu = add(up.x, mul(&up.r, self.spring_up[si]));
-        let pl = add(low.x, mul(&low.r, self.spring_low[si]));
+        let pl = self.static_spring_low[si]
+            .unwrap_or_else(|| add(low.x, mul(&low.r, self.spring_low[si])));
         let zl = [low.r[0][2], low.r[1][2], low.r[2][2]];
         (dot(sub(pu, pl), zl), pu, zl)
     }
@@ -562,8 +624,18 @@ impl<'a> Sim<'a> {
         force.resize(nb, [0.0; 3]);
         torque.clear();
         torque.resize(nb, [0.0; 3]);
-        frames.clear();
-        frames.extend((0..nb).map(|b| self.frame(y, b)));
+        // The frames of bodies that do not move stay from call to call (`rebuild_static`
+        // empties the buffer when the set changes).
+        if frames.len() != nb {
+            frames.clear();
+            frames.extend((0..nb).map(|b| self.frame(y, b)));
+        } else {
+            for (b, f) in frames.iter_mut().enumerate() {
+                if self.static_frames[b].is_none() {
+                    *f = self.frame_of(y, b);
+                }
+            }
+        }
         let frames = &*frames;
         let apply = |b: usize, f: V3, at: V3, force: &mut Vec<V3>, torque: &mut Vec<V3>| {
             force[b] = add(force[b], f);
@@ -612,14 +684,26 @@ impl<'a> Sim<'a> {
                         }
                         self.edge_bar(y, j, r, false)
                     } else {
+                        // The same test for a moving edge, from its point and mode shapes
+                        // only (the formulas of `edge_kin`, which redoes them for the few
+                        // edges that may touch).
+                        let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
+                        let pl = self.to_carrier(c0, add(s.x, rb));
+                        let mut phi = [0.0; MAX_BAR_MODES];
+                        if let Some(bar) = &self.m.bars {
+                            bar.eval_phi(pl[2], &mut phi);
+                        }
+                        let e = self.offset_at(y, j, pl, &phi);
+                        if e[0] * e[0] + e[1] * e[1] < self.clearance_sq_safe {
+                            continue;
+                        }
                         self.edge_kin(y, c0, s, i, j, k, true)
                     };
                     if ek.delta <= 0.0 || ek.z < 0.0 || ek.z > len {
                         continue;
                     }
                     let v_imp = ec.impact_speed.unwrap_or(c.min_impact_speed);
-                    let fnrm = c.normal_force(ek.delta, ek.delta_dot, v_imp);
-                    let fel = c.stiffness * ek.delta.powf(c.exponent);
+                    let (fnrm, fel) = c.normal_and_elastic(ek.delta, ek.delta_dot, v_imp);
                     p_contact += (fnrm - fel) * ek.delta_dot;
                     let n = ek.n;
                     // −F·∇δ: lateral along n, axial from the bar slope.
@@ -768,11 +852,15 @@ impl<'a> Sim<'a> {
         let frames = self.frames(y);
         let n8 = 8 * self.n;
         for ei in 0..n8 {
-            let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
-            let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, false);
-            g[ei] = ek.delta;
-            gd[ei] = ek.delta_dot;
-            g[n8 + ei] = ek.z - self.m.bar_length_m;
+            // `crossed`, the hidden-contact test and the state maintenance skip an edge past
+            // the tip: its values are never read.
+            if self.edges[ei].past_tip {
+                continue;
+            }
+            let (delta, delta_dot, z) = self.edge_event(y, &frames[0], &frames[ei / 8 + 1], ei);
+            g[ei] = delta;
+            gd[ei] = delta_dot;
+            g[n8 + ei] = z - self.m.bar_length_m;
         }
         for (idx, gi) in g.iter_mut().enumerate().skip(2 * n8) {
             *gi = self.event_value(y, idx, &frames);
