@@ -489,7 +489,7 @@ fn stack_with(n: usize) -> Scene {
 fn twenty_satellite_stack_bands_and_cluster_match_eigsh() {
     // Issue 3: the Sturm-count proof and the sparse solver's accuracy on a stack large enough
     // for the paths the 6-satellite scene never takes: the band is cut into parallel bands
-    // (932 modes below 2 kHz, bands of about 400), and the column joints' local mode,
+    // (932 modes below 2 kHz, bands of about 150), and the column joints' local mode,
     // repeated 84 times at 653 Hz, is taken whole by the cluster subspace iteration.
     // Reference: scipy.sparse.linalg.eigsh (ARPACK, shift-invert, tol 1e-14) on the matrices
     // this model exports, stored with the command that made them in

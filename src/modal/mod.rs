@@ -18,10 +18,12 @@ use serde::Serialize;
 /// the modes with `fmax_hz` or `modes`). Measured with `satqual bench modal` on the 2-core
 /// development machine (reports/bench/modal.md): the dense cost is fixed by n (all modes,
 /// O(n³): 0.03 s at 500 DOFs, 1.9 s at 2200), the sparse one grows with the modes in the band.
-/// For a narrow band (a tenth of the modes) sparse wins from a few hundred DOFs; for the stack
-/// at 2 kHz, where ~45% of all modes are in the band, dense wins at 692 DOFs (0.12 s against
-/// 0.14 s) and sparse at 2120 (0.9 s against 2.7 s). 1500 lies between, and keeps the
-/// verification scenes and the 6-satellite paper stack on the dense path.
+/// For a narrow band (a tenth of the modes) sparse wins from a few hundred DOFs. For the stack
+/// at 2 kHz, where ~45% of all modes are in the band, dense won at 692 DOFs until the sparse
+/// kernels got faster; now sparse wins there too (0.09 s against 0.14 s) and at 2120 (0.6 s
+/// against 2.9 s). 1500 is kept: it leaves the verification scenes and the 6-satellite paper
+/// stack on the dense path, which returns every mode and needs no Sturm proof, at a cost of
+/// a few hundredths of a second.
 pub const AUTO_SPARSE_DOFS: usize = 1500;
 
 /// What to extract.
