@@ -986,7 +986,13 @@ pub fn eigen(
     // cluster does not start last and leave the other threads idle. A band's result depends
     // only on its index (its edges and seed), never on which thread ran it or when.
     let mut order: Vec<usize> = (0..bands.len()).collect();
-    let size = |j: usize| bands[j].1.map(|u| u.1).unwrap_or(target) - bands[j].0.1;
+    let size = |j: usize| {
+        bands[j]
+            .1
+            .map(|u| u.1)
+            .unwrap_or(target)
+            .saturating_sub(bands[j].0.1)
+    };
     order.sort_by_key(|&j| (std::cmp::Reverse(size(j)), j));
     let slots: Vec<std::sync::Mutex<Option<BandResult>>> =
         bands.iter().map(|_| std::sync::Mutex::new(None)).collect();
