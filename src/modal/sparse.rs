@@ -160,6 +160,54 @@ macro_rules! simd_dispatch {
     }};
 }
 
+/// Columns c0..c0 + w (w ≤ 8) of `x` as the interleaved rows of the 8-wide kernels: row i
+/// holds x[perm[i], c0..c0 + w] (x[i, …] without a permutation), zero-padded to eight. `col`
+/// is an n-long scratch column, so that each column is read contiguously.
+fn gather_rows(
+    x: MatRef<'_, f64>,
+    c0: usize,
+    w: usize,
+    perm: Option<&[usize]>,
+    col: &mut [f64],
+    rows: &mut [[f64; 8]],
+) {
+    for c in 0..w {
+        let src = x.col(c0 + c);
+        for (i, v) in col.iter_mut().enumerate() {
+            *v = src[i];
+        }
+        match perm {
+            Some(perm) => rows.iter_mut().zip(perm).for_each(|(r, &f)| r[c] = col[f]),
+            None => rows.iter_mut().zip(&*col).for_each(|(r, &v)| r[c] = v),
+        }
+    }
+    for row in rows.iter_mut() {
+        row[w..].fill(0.0);
+    }
+}
+
+/// The inverse of [`gather_rows`]: the first w values of every row back into columns
+/// c0..c0 + w of `y`, through the same permutation.
+fn scatter_rows(
+    rows: &[[f64; 8]],
+    c0: usize,
+    w: usize,
+    perm: Option<&[usize]>,
+    col: &mut [f64],
+    mut y: MatMut<'_, f64>,
+) {
+    for c in 0..w {
+        match perm {
+            Some(perm) => rows.iter().zip(perm).for_each(|(r, &f)| col[f] = r[c]),
+            None => col.iter_mut().zip(rows).for_each(|(v, r)| *v = r[c]),
+        }
+        let mut dst = y.as_mut().col_mut(c0 + c);
+        for (i, v) in col.iter().enumerate() {
+            dst[i] = *v;
+        }
+    }
+}
+
 /// The two sparse kernels of the Lanczos iteration, on rows of eight interleaved
 /// right-hand sides, with a plain, an AVX2 and an AVX-512 build of the same source.
 mod simd_kernels {
@@ -311,18 +359,10 @@ impl SymCsc {
         let mut y = Mat::<f64>::zeros(n, p);
         let mut xr = vec![[0.0f64; CHUNK]; n];
         let mut yr = vec![[0.0f64; CHUNK]; n];
-        let mut c0 = 0;
-        while c0 < p {
+        let mut col = vec![0.0f64; n];
+        for c0 in (0..p).step_by(CHUNK) {
             let w = CHUNK.min(p - c0);
-            for c in 0..w {
-                let col = x.col(c0 + c);
-                for (i, row) in xr.iter_mut().enumerate() {
-                    row[c] = col[i];
-                }
-            }
-            for row in xr.iter_mut() {
-                row[w..].fill(0.0);
-            }
+            gather_rows(x, c0, w, None, &mut col, &mut xr);
             simd_dispatch!(spmm_rows(
                 &self.col_ptr,
                 &self.row_idx,
@@ -330,13 +370,7 @@ impl SymCsc {
                 &xr,
                 &mut yr
             ));
-            for c in 0..w {
-                let mut yc = y.col_mut(c0 + c);
-                for (i, row) in yr.iter().enumerate() {
-                    yc[i] = row[c];
-                }
-            }
-            c0 += w;
+            scatter_rows(&yr, c0, w, None, &mut col, y.as_mut());
         }
         y
     }
@@ -605,32 +639,11 @@ impl Factor<'_> {
         let l = &self.values;
         let mut x = vec![[0.0f64; W]; n];
         let mut col = vec![0.0f64; n];
-        let mut c0 = 0;
-        while c0 < rhs.ncols() {
+        for c0 in (0..rhs.ncols()).step_by(W) {
             let w = W.min(rhs.ncols() - c0);
-            for c in 0..w {
-                let src = rhs.as_ref().col(c0 + c);
-                for (i, v) in col.iter_mut().enumerate() {
-                    *v = src[i];
-                }
-                for (row, &f) in x.iter_mut().zip(&fwd) {
-                    row[c] = col[f];
-                }
-            }
-            for row in x.iter_mut() {
-                row[w..].fill(0.0);
-            }
+            gather_rows(rhs.as_ref(), c0, w, Some(&fwd), &mut col, &mut x);
             simd_dispatch!(ldlt_sweeps(cp, ri, l, &mut x));
-            for c in 0..w {
-                for (row, &f) in x.iter().zip(&fwd) {
-                    col[f] = row[c];
-                }
-                let mut dst = rhs.as_mut().col_mut(c0 + c);
-                for (i, v) in col.iter().enumerate() {
-                    dst[i] = *v;
-                }
-            }
-            c0 += w;
+            scatter_rows(&x, c0, w, Some(&fwd), &mut col, rhs.as_mut());
         }
     }
 
