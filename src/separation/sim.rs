@@ -211,6 +211,20 @@ struct EdgeRigid {
     dphi: [f64; MAX_BAR_MODES],
 }
 
+impl EdgeRigid {
+    /// An edge at `p` (world) / `pl` (carrier frame), velocities and mode shapes still zero.
+    fn at(p: V3, pl: V3) -> EdgeRigid {
+        EdgeRigid {
+            p,
+            pl,
+            vp: [0.0; 3],
+            vrel: [0.0; 3],
+            phi: [0.0; MAX_BAR_MODES],
+            dphi: [0.0; MAX_BAR_MODES],
+        }
+    }
+}
+
 /// Buffers of the right-hand side, kept between calls so that it allocates nothing.
 #[derive(Default)]
 struct Scratch {
@@ -374,17 +388,8 @@ impl<'a> Sim<'a> {
         if let Some(r) = &self.static_edges[(i - 1) * 8 + j * 2 + k] {
             return self.edge_bar(y, j, r, touching_only);
         }
-        let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
-        let p = add(s.x, rb);
-        let pl = self.to_carrier(c0, p);
-        let mut r = EdgeRigid {
-            p,
-            pl,
-            vp: [0.0; 3],
-            vrel: [0.0; 3],
-            phi: [0.0; MAX_BAR_MODES],
-            dphi: [0.0; MAX_BAR_MODES],
-        };
+        let (rb, p, pl) = self.edge_point(c0, s, i, j, k);
+        let mut r = EdgeRigid::at(p, pl);
         if let Some(bar) = &self.m.bars {
             bar.eval_phi(pl[2], &mut r.phi);
         }
@@ -414,9 +419,7 @@ impl<'a> Sim<'a> {
         let r = match &self.static_edges[ei] {
             Some(r) => r,
             None => {
-                let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
-                let p = add(s.x, rb);
-                let pl = self.to_carrier(c0, p);
+                let (rb, p, pl) = self.edge_point(c0, s, i, j, k);
                 built = self.edge_rigid(c0, s, rb, p, pl);
                 &built
             }
@@ -425,17 +428,19 @@ impl<'a> Sim<'a> {
         (ek.delta, ek.delta_dot, ek.z)
     }
 
+    /// Edge k of column j of satellite i (frame `s`): its offset from the satellite's origin
+    /// (world axes), its world point and that point in the carrier frame.
+    #[inline(always)]
+    fn edge_point(&self, c0: &Frame, s: &Frame, i: usize, j: usize, k: usize) -> (V3, V3, V3) {
+        let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
+        let p = add(s.x, rb);
+        (rb, p, self.to_carrier(c0, p))
+    }
+
     /// The rigid-body part of an edge's kinematics, from its offset `rb` (world axes), point
     /// `p` and point in the carrier frame `pl`.
     fn edge_rigid(&self, c0: &Frame, s: &Frame, rb: V3, p: V3, pl: V3) -> EdgeRigid {
-        let mut r = EdgeRigid {
-            p,
-            pl,
-            vp: [0.0; 3],
-            vrel: [0.0; 3],
-            phi: [0.0; MAX_BAR_MODES],
-            dphi: [0.0; MAX_BAR_MODES],
-        };
+        let mut r = EdgeRigid::at(p, pl);
         self.edge_velocity(c0, s, rb, &mut r);
         if let Some(bar) = &self.m.bars {
             bar.eval_all(pl[2], &mut r.phi, &mut r.dphi);
@@ -577,9 +582,7 @@ impl<'a> Sim<'a> {
             let Some(s) = frames[i] else { continue };
             for j in 0..4 {
                 for k in 0..2 {
-                    let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
-                    let p = add(s.x, rb);
-                    let pl = self.to_carrier(&c0, p);
+                    let (rb, p, pl) = self.edge_point(&c0, &s, i, j, k);
                     self.static_edges[(i - 1) * 8 + j * 2 + k] =
                         Some(self.edge_rigid(&c0, &s, rb, p, pl));
                 }
@@ -687,8 +690,7 @@ impl<'a> Sim<'a> {
                         // The same test for a moving edge, from its point and mode shapes
                         // only (the formulas of `edge_kin`, which redoes them for the few
                         // edges that may touch).
-                        let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
-                        let pl = self.to_carrier(c0, add(s.x, rb));
+                        let (_, _, pl) = self.edge_point(c0, s, i, j, k);
                         let mut phi = [0.0; MAX_BAR_MODES];
                         if let Some(bar) = &self.m.bars {
                             bar.eval_phi(pl[2], &mut phi);
