@@ -160,52 +160,126 @@ macro_rules! simd_dispatch {
     }};
 }
 
-/// Columns c0..c0 + w (w ≤ 8) of `x` as the interleaved rows of the 8-wide kernels: row i
-/// holds x[perm[i], c0..c0 + w] (x[i, …] without a permutation), zero-padded to eight. `col`
-/// is an n-long scratch column, so that each column is read contiguously.
+/// Columns c0..c0 + w (w ≤ 8) of `x` as the interleaved rows of the 8-wide kernels: row
+/// inv[o] holds x[o, c0..c0 + w] (row o without a permutation), zero-padded to eight.
+///
+/// One pass over the original rows: every column is read contiguously and every row of the
+/// kernel's layout is written whole, once (a column-at-a-time transpose wrote each 64-byte
+/// row eight times and cost more than the sparse product it fed).
 fn gather_rows(
     x: MatRef<'_, f64>,
     c0: usize,
     w: usize,
-    perm: Option<&[usize]>,
-    col: &mut [f64],
+    inv: Option<&[usize]>,
     rows: &mut [[f64; 8]],
 ) {
-    for c in 0..w {
-        let src = x.col(c0 + c);
-        for (i, v) in col.iter_mut().enumerate() {
-            *v = src[i];
+    let n = rows.len();
+    let cols: Vec<&[f64]> = (0..w).map(|c| column(x, c0 + c)).collect();
+    let row_of = |o: usize| match inv {
+        Some(inv) => inv[o],
+        None => o,
+    };
+    if w == 8 {
+        let c: [&[f64]; 8] = std::array::from_fn(|k| &cols[k][..n]);
+        for o in 0..n {
+            rows[row_of(o)] = [
+                c[0][o], c[1][o], c[2][o], c[3][o], c[4][o], c[5][o], c[6][o], c[7][o],
+            ];
         }
-        match perm {
-            Some(perm) => rows.iter_mut().zip(perm).for_each(|(r, &f)| r[c] = col[f]),
-            None => rows.iter_mut().zip(&*col).for_each(|(r, &v)| r[c] = v),
+    } else {
+        for o in 0..n {
+            let mut r = [0.0; 8];
+            for (k, col) in cols.iter().enumerate() {
+                r[k] = col[o];
+            }
+            rows[row_of(o)] = r;
         }
-    }
-    for row in rows.iter_mut() {
-        row[w..].fill(0.0);
     }
 }
 
 /// The inverse of [`gather_rows`]: the first w values of every row back into columns
-/// c0..c0 + w of `y`, through the same permutation.
+/// c0..c0 + w of `y`, through the same permutation (each row read whole, each column
+/// written contiguously).
 fn scatter_rows(
     rows: &[[f64; 8]],
     c0: usize,
     w: usize,
-    perm: Option<&[usize]>,
-    col: &mut [f64],
+    inv: Option<&[usize]>,
     mut y: MatMut<'_, f64>,
 ) {
-    for c in 0..w {
-        match perm {
-            Some(perm) => rows.iter().zip(perm).for_each(|(r, &f)| col[f] = r[c]),
-            None => col.iter_mut().zip(rows).for_each(|(v, r)| *v = r[c]),
+    let n = rows.len();
+    let row_of = |o: usize| match inv {
+        Some(inv) => inv[o],
+        None => o,
+    };
+    let mut cols: Vec<&mut [f64]> = y
+        .as_mut()
+        .subcols_mut(c0, w)
+        .col_iter_mut()
+        .map(|c| {
+            c.try_as_col_major_mut()
+                .expect("faer matrices are column-major")
+                .as_slice_mut()
+        })
+        .collect();
+    if w == 8 {
+        let [c0, c1, c2, c3, c4, c5, c6, c7] = &mut cols[..] else {
+            unreachable!("eight columns")
+        };
+        let (c0, c1, c2, c3) = (&mut c0[..n], &mut c1[..n], &mut c2[..n], &mut c3[..n]);
+        let (c4, c5, c6, c7) = (&mut c4[..n], &mut c5[..n], &mut c6[..n], &mut c7[..n]);
+        for o in 0..n {
+            let r = &rows[row_of(o)];
+            c0[o] = r[0];
+            c1[o] = r[1];
+            c2[o] = r[2];
+            c3[o] = r[3];
+            c4[o] = r[4];
+            c5[o] = r[5];
+            c6[o] = r[6];
+            c7[o] = r[7];
         }
-        let mut dst = y.as_mut().col_mut(c0 + c);
-        for (i, v) in col.iter().enumerate() {
-            dst[i] = *v;
+    } else {
+        for o in 0..n {
+            let r = &rows[row_of(o)];
+            for (k, col) in cols.iter_mut().enumerate() {
+                col[o] = r[k];
+            }
         }
     }
+}
+
+/// A column of a faer matrix as a slice (faer stores columns contiguously).
+fn column(x: MatRef<'_, f64>, c: usize) -> &[f64] {
+    x.col(c)
+        .try_as_col_major()
+        .expect("faer matrices are column-major")
+        .as_slice()
+}
+
+/// Per-thread scratch of the 8-wide kernels, reused across calls: two n × 8 interleaved
+/// blocks. Allocating them per call (about 1 MB on the 60-satellite stack, thousands of calls)
+/// cost page faults and zeroing, 5% of the solve.
+struct Scratch {
+    a: Vec<[f64; 8]>,
+    b: Vec<[f64; 8]>,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = const {
+        std::cell::RefCell::new(Scratch { a: Vec::new(), b: Vec::new() })
+    };
+}
+
+/// Runs `f` on this thread's scratch, both blocks n rows long (contents unspecified).
+fn with_scratch<R>(n: usize, f: impl FnOnce(&mut [[f64; 8]], &mut [[f64; 8]]) -> R) -> R {
+    SCRATCH.with(|s| {
+        let mut s = s.borrow_mut();
+        let Scratch { a, b } = &mut *s;
+        a.resize(n, [0.0; 8]);
+        b.resize(n, [0.0; 8]);
+        f(&mut a[..n], &mut b[..n])
+    })
 }
 
 /// The two sparse kernels of the Lanczos iteration, on rows of eight interleaved
@@ -357,21 +431,14 @@ impl SymCsc {
         const CHUNK: usize = 8;
         let (n, p) = (self.n, x.ncols());
         let mut y = Mat::<f64>::zeros(n, p);
-        let mut xr = vec![[0.0f64; CHUNK]; n];
-        let mut yr = vec![[0.0f64; CHUNK]; n];
-        let mut col = vec![0.0f64; n];
-        for c0 in (0..p).step_by(CHUNK) {
-            let w = CHUNK.min(p - c0);
-            gather_rows(x, c0, w, None, &mut col, &mut xr);
-            simd_dispatch!(spmm_rows(
-                &self.col_ptr,
-                &self.row_idx,
-                &self.val,
-                &xr,
-                &mut yr
-            ));
-            scatter_rows(&yr, c0, w, None, &mut col, y.as_mut());
-        }
+        with_scratch(n, |xr, yr| {
+            for c0 in (0..p).step_by(CHUNK) {
+                let w = CHUNK.min(p - c0);
+                gather_rows(x, c0, w, None, xr);
+                simd_dispatch!(spmm_rows(&self.col_ptr, &self.row_idx, &self.val, xr, yr));
+                scatter_rows(yr, c0, w, None, y.as_mut());
+            }
+        });
         y
     }
 
@@ -635,16 +702,16 @@ impl Factor<'_> {
     fn solve_simplicial(&self, cp: &[usize], ri: &[usize], mut rhs: MatMut<'_, f64>) {
         const W: usize = 8;
         let n = self.pencil.n;
-        let fwd: Vec<usize> = (0..n).map(|i| self.pencil.original(i)).collect();
+        let inv = self.pencil.symbolic.perm().map(|p| p.arrays().1);
         let l = &self.values;
-        let mut x = vec![[0.0f64; W]; n];
-        let mut col = vec![0.0f64; n];
-        for c0 in (0..rhs.ncols()).step_by(W) {
-            let w = W.min(rhs.ncols() - c0);
-            gather_rows(rhs.as_ref(), c0, w, Some(&fwd), &mut col, &mut x);
-            simd_dispatch!(ldlt_sweeps(cp, ri, l, &mut x));
-            scatter_rows(&x, c0, w, Some(&fwd), &mut col, rhs.as_mut());
-        }
+        with_scratch(n, |x, _| {
+            for c0 in (0..rhs.ncols()).step_by(W) {
+                let w = W.min(rhs.ncols() - c0);
+                gather_rows(rhs.as_ref(), c0, w, inv, x);
+                simd_dispatch!(ldlt_sweeps(cp, ri, l, x));
+                scatter_rows(x, c0, w, inv, rhs.as_mut());
+            }
+        });
     }
 
     /// The first pivot (in elimination order) that is not clearly positive, relative to the
