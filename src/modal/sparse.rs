@@ -338,6 +338,124 @@ mod simd_kernels {
         }
     }
 
+    /// Row chunk of the two block kernels below: 256 rows of up to 16 columns stay in L1.
+    const CHUNK: usize = 256;
+
+    /// g = Xᵀ·Y (p × p, row-major) for n × p column sets, p ≤ 16, upper triangle computed
+    /// and mirrored. Eight lane sums per entry, added in a fixed order: the result does not
+    /// depend on the instruction set.
+    #[inline(always)]
+    pub fn gram_sym(x: &[&[f64]], y: &[&[f64]], g: &mut [f64]) {
+        let p = x.len();
+        let n = x.first().map_or(0, |c| c.len());
+        let mut acc = [[0.0f64; 8]; 136];
+        for s in (0..n).step_by(CHUNK) {
+            let e = (s + CHUNK).min(n);
+            let mut idx = 0;
+            for a in 0..p {
+                let xa = &x[a][s..e];
+                for yb in &y[a..p] {
+                    let yb = &yb[s..e];
+                    let lanes = &mut acc[idx];
+                    let mut xc = xa.chunks_exact(8);
+                    let mut yc = yb.chunks_exact(8);
+                    for (xv, yv) in (&mut xc).zip(&mut yc) {
+                        for k in 0..8 {
+                            lanes[k] += xv[k] * yv[k];
+                        }
+                    }
+                    for (k, (xv, yv)) in xc.remainder().iter().zip(yc.remainder()).enumerate() {
+                        lanes[k] += xv * yv;
+                    }
+                    idx += 1;
+                }
+            }
+        }
+        let mut idx = 0;
+        for a in 0..p {
+            for b in a..p {
+                let l = &acc[idx];
+                let v = ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]));
+                g[a * p + b] = v;
+                g[b * p + a] = v;
+                idx += 1;
+            }
+        }
+    }
+
+    /// X ← X·U in place for an upper-triangular p × p U (row-major), p ≤ 16: column j
+    /// becomes U_jj·x_j + Σ_{k<j} U_kj·x_k, so the columns are rewritten from the last.
+    #[inline(always)]
+    pub fn mul_upper(x: &mut [&mut [f64]], u: &[f64]) {
+        let p = x.len();
+        if p == 8 {
+            return mul_upper8(x, u);
+        }
+        let n = x.first().map_or(0, |c| c.len());
+        let mut t = [0.0f64; CHUNK];
+        for s in (0..n).step_by(CHUNK) {
+            let e = (s + CHUNK).min(n);
+            let t = &mut t[..e - s];
+            for j in (0..p).rev() {
+                let (lo, hi) = x.split_at_mut(j);
+                let xj = &mut hi[0][s..e];
+                let ujj = u[j * p + j];
+                for (ti, xi) in t.iter_mut().zip(xj.iter()) {
+                    *ti = ujj * xi;
+                }
+                for (k, xk) in lo.iter().enumerate() {
+                    let ukj = u[k * p + j];
+                    for (ti, xi) in t.iter_mut().zip(&xk[s..e]) {
+                        *ti += ukj * xi;
+                    }
+                }
+                xj.copy_from_slice(t);
+            }
+        }
+    }
+
+    /// [`mul_upper`] for the Lanczos block width: eight rows at a time, all eight columns
+    /// in registers, so every value is loaded and stored once (same sums, same order).
+    #[inline(always)]
+    fn mul_upper8(x: &mut [&mut [f64]], u: &[f64]) {
+        let n = x[0].len();
+        let mut uu = [[0.0f64; 8]; 8];
+        for k in 0..8 {
+            for j in 0..8 {
+                uu[k][j] = u[k * 8 + j];
+            }
+        }
+        let main = n - n % 8;
+        for s in (0..main).step_by(8) {
+            upper8_rows::<8>(x, &uu, s);
+        }
+        // The last n mod 8 rows, one at a time.
+        for s in main..n {
+            upper8_rows::<1>(x, &uu, s);
+        }
+    }
+
+    /// Rows s..s + W of [`mul_upper8`].
+    #[inline(always)]
+    fn upper8_rows<const W: usize>(x: &mut [&mut [f64]], uu: &[[f64; 8]; 8], s: usize) {
+        let mut xs = [[0.0f64; W]; 8];
+        for k in 0..8 {
+            xs[k].copy_from_slice(&x[k][s..s + W]);
+        }
+        for j in 0..8 {
+            let mut t = [0.0f64; W];
+            for l in 0..W {
+                t[l] = uu[j][j] * xs[j][l];
+            }
+            for k in 0..j {
+                for l in 0..W {
+                    t[l] += uu[k][j] * xs[k][l];
+                }
+            }
+            x[j][s..s + W].copy_from_slice(&t);
+        }
+    }
+
     macro_rules! build {
         ($name:ident, $feature:literal) => {
             #[cfg(target_arch = "x86_64")]
@@ -356,6 +474,16 @@ mod simd_kernels {
                 #[target_feature(enable = $feature)]
                 pub fn ldlt_sweeps(cp: &[usize], ri: &[usize], l: &[f64], x: &mut [[f64; 8]]) {
                     super::ldlt_sweeps(cp, ri, l, x)
+                }
+
+                #[target_feature(enable = $feature)]
+                pub fn gram_sym(x: &[&[f64]], y: &[&[f64]], g: &mut [f64]) {
+                    super::gram_sym(x, y, g)
+                }
+
+                #[target_feature(enable = $feature)]
+                pub fn mul_upper(x: &mut [&mut [f64]], u: &[f64]) {
+                    super::mul_upper(x, u)
                 }
             }
         };
@@ -1674,7 +1802,7 @@ fn cluster_pairs(
             x = y;
         }
         let mx = m.mul(x.as_ref());
-        let Some((xo, bxo, _)) = chol_qr2(&x, &mx) else {
+        let Some((xo, bxo, _)) = chol_qr2(&x, &mx, None) else {
             return Ok(Vec::new());
         };
         let mut y = bxo.clone();
@@ -1717,15 +1845,29 @@ fn cluster_pairs(
 /// B-orthonormalisation of a block by Cholesky QR, twice (CholQR2: matrix–matrix work instead
 /// of the column-by-column Gram–Schmidt). `None` when the block is too close to rank
 /// deficient for it (a relative Cholesky pivot under 1e-10), and the caller falls back.
-fn chol_qr2(u: &Mat<f64>, bu: &Mat<f64>) -> Option<(Mat<f64>, Mat<f64>, Mat<f64>)> {
+fn chol_qr2(
+    u: &Mat<f64>,
+    bu: &Mat<f64>,
+    g0: Option<Mat<f64>>,
+) -> Option<(Mat<f64>, Mat<f64>, Mat<f64>)> {
     use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
     let p = u.ncols();
+    // Blocks of the Lanczos step go through the 8-wide kernels (in place, one pass per
+    // product); wider ones (a cluster's subspace) through faer.
+    let small = p <= 16;
     let mut u = u.clone();
     let mut bu = bu.clone();
     let mut r = Mat::<f64>::identity(p, p);
+    let mut given = g0;
     for _ in 0..2 {
-        let g0 = u.transpose() * &bu;
-        let g = Mat::<f64>::from_fn(p, p, |i, j| 0.5 * (g0[(i, j)] + g0[(j, i)]));
+        let g = match given.take() {
+            Some(g) => g,
+            None if small => gram(u.as_ref(), bu.as_ref()),
+            None => {
+                let g0 = u.transpose() * &bu;
+                Mat::<f64>::from_fn(p, p, |i, j| 0.5 * (g0[(i, j)] + g0[(j, i)]))
+            }
+        };
         let l = g.llt(Side::Lower).ok()?.L().to_owned();
         for i in 0..p {
             // NaN fails this too.
@@ -1739,11 +1881,40 @@ fn chol_qr2(u: &Mat<f64>, bu: &Mat<f64>) -> Option<(Mat<f64>, Mat<f64>, Mat<f64>
         let mut linv = Mat::<f64>::identity(p, p);
         solve_lower_triangular_in_place(l.as_ref(), linv.as_mut(), Par::Seq);
         let lit = linv.transpose();
-        u = &u * lit;
-        bu = &bu * lit;
+        if small {
+            let ut: Vec<f64> = (0..p * p).map(|x| lit[(x / p, x % p)]).collect();
+            for m in [&mut u, &mut bu] {
+                let mut cols = columns_mut(m.as_mut());
+                simd_dispatch!(mul_upper(&mut cols, &ut));
+            }
+        } else {
+            u = &u * lit;
+            bu = &bu * lit;
+        }
         r = l.transpose() * &r;
     }
     Some((u, bu, r))
+}
+
+/// Xᵀ·Y for two n × p blocks (p ≤ 16), exactly symmetric (the upper triangle mirrored).
+fn gram(x: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Mat<f64> {
+    let p = x.ncols();
+    let xc: Vec<&[f64]> = (0..p).map(|c| column(x, c)).collect();
+    let yc: Vec<&[f64]> = (0..p).map(|c| column(y, c)).collect();
+    let mut g = vec![0.0; p * p];
+    simd_dispatch!(gram_sym(&xc, &yc, &mut g));
+    Mat::<f64>::from_fn(p, p, |i, j| g[i * p + j])
+}
+
+/// The columns of a faer matrix as mutable slices.
+fn columns_mut(x: MatMut<'_, f64>) -> Vec<&mut [f64]> {
+    x.col_iter_mut()
+        .map(|c| {
+            c.try_as_col_major_mut()
+                .expect("faer matrices are column-major")
+                .as_slice_mut()
+        })
+        .collect()
 }
 
 fn col_vec(m: &Mat<f64>, c: usize) -> Vec<f64> {
@@ -1884,7 +2055,14 @@ impl<'x> Lanczos<'x> {
     /// the first pass then already left u orthogonal to that level. On the 60-satellite
     /// stack 99% of block steps qualify, and the skipped update is a quarter of the
     /// re-orthogonalisation work; B·u, needed anyway for the normalisation, gives ‖u‖_B.
-    fn orthogonalize_step(&self, mut u: MatMut<'_, f64>, b: &SymCsc) -> (Mat<f64>, Mat<f64>) {
+    ///
+    /// Also returns uᵀ·B·u when the second pass was skipped (u unchanged since): the
+    /// normalisation starts from it.
+    fn orthogonalize_step(
+        &self,
+        mut u: MatMut<'_, f64>,
+        b: &SymCsc,
+    ) -> (Mat<f64>, Mat<f64>, Option<Mat<f64>>) {
         let upto = self.filled;
         let mut coef = Mat::<f64>::zeros(upto, u.ncols());
         if self.x.ncols() > 0 {
@@ -1909,8 +2087,12 @@ impl<'x> Lanczos<'x> {
         let bu = b.mul(u.as_ref());
         let cx = (self.x.ncols() > 0).then(|| self.bx.transpose() * u.as_ref());
         let cv = (bu.transpose() * vv).transpose().to_owned();
+        let g = (u.ncols() <= 16).then(|| gram(u.as_ref(), bu.as_ref()));
         let needed = (0..u.ncols()).any(|j| {
-            let norm2: f64 = (0..self.n).map(|i| u[(i, j)] * bu[(i, j)]).sum();
+            let norm2: f64 = match &g {
+                Some(g) => g[(j, j)],
+                None => (0..self.n).map(|i| u[(i, j)] * bu[(i, j)]).sum(),
+            };
             let mut c2 = cv.col(j).squared_norm_l2();
             if let Some(cx) = &cx {
                 c2 += cx.col(j).squared_norm_l2();
@@ -1923,7 +2105,7 @@ impl<'x> Lanczos<'x> {
             )
         });
         if !needed {
-            return (coef, bu);
+            return (coef, bu, g);
         }
         if let Some(cx) = &cx {
             matmul(u.as_mut(), Accum::Add, self.x, cx.as_ref(), -1.0, Par::Seq);
@@ -1937,7 +2119,7 @@ impl<'x> Lanczos<'x> {
             Par::Seq,
         );
         coef += &cv;
-        (coef, b.mul(u.as_ref()))
+        (coef, b.mul(u.as_ref()), None)
     }
 
     /// B-orthonormalises the block `u` (already orthogonal to X and V) in place; returns
@@ -1946,14 +2128,14 @@ impl<'x> Lanczos<'x> {
     fn normalize(
         &mut self,
         u: Mat<f64>,
-        bu: Option<Mat<f64>>,
+        bu: Option<(Mat<f64>, Option<Mat<f64>>)>,
         b: &SymCsc,
         upto: usize,
     ) -> (Mat<f64>, Mat<f64>, Mat<f64>, bool) {
         let p = u.ncols();
         let n = self.n;
-        let bu_m = bu.unwrap_or_else(|| b.mul(u.as_ref()));
-        if let Some((u, bu, r)) = chol_qr2(&u, &bu_m) {
+        let (bu_m, g0) = bu.unwrap_or_else(|| (b.mul(u.as_ref()), None));
+        if let Some((u, bu, r)) = chol_qr2(&u, &bu_m, g0) {
             return (u, bu, r, false);
         }
         let mut r = Mat::<f64>::zeros(p, p);
@@ -2038,7 +2220,7 @@ impl<'x> Lanczos<'x> {
         let j0 = self.nb * p;
         debug_assert_eq!(self.filled, j0 + p);
         let mut u = op(self.v.as_ref().subcols(j0, p), self.bv_last.as_ref());
-        let (coef, bu) = self.orthogonalize_step(u.as_mut(), b);
+        let (coef, bu, g) = self.orthogonalize_step(u.as_mut(), b);
         // Diagonal block, symmetrised.
         for i in 0..p {
             for c in 0..p {
@@ -2046,7 +2228,7 @@ impl<'x> Lanczos<'x> {
             }
         }
         self.nb += 1;
-        let (u, bu, r, ex) = self.normalize(u, Some(bu), b, self.filled);
+        let (u, bu, r, ex) = self.normalize(u, Some((bu, g)), b, self.filled);
         self.r = r;
         self.exhausted |= ex;
         let j1 = j0 + p;
