@@ -920,15 +920,7 @@ pub fn buckling_factor(k: &SymCsc, kg: &SymCsc) -> Result<Option<f64>, SparseErr
     };
     let empty = Mat::<f64>::zeros(n, 0);
     let max_basis = (MAX_BASIS.min(n) / BLOCK.min(n)).max(1) * BLOCK.min(n);
-    let mut lz = Lanczos::new(
-        n,
-        BLOCK.min(n),
-        max_basis,
-        empty.as_ref(),
-        empty.as_ref(),
-        7,
-        &mut None,
-    );
+    let mut lz = Lanczos::new(n, BLOCK.min(n), max_basis, empty.as_ref(), 7, &mut None);
     lz.start(k);
     let mut bracket = None;
     loop {
@@ -996,7 +988,6 @@ pub fn buckling_factor(k: &SymCsc, kg: &SymCsc) -> Result<Option<f64>, SparseErr
             n,
             BLOCK.min(n),
             max_basis,
-            empty.as_ref(),
             empty.as_ref(),
             11 + run,
             &mut None,
@@ -1524,15 +1515,7 @@ fn run_slice(
         let p = block.min(room);
         let max_basis = (MAX_BASIS.min(room) / p).max(1) * p;
         *seed += 1;
-        let mut lz = Lanczos::new(
-            n,
-            p,
-            max_basis,
-            locked.as_ref(),
-            locked_m.as_ref(),
-            *seed,
-            bufs,
-        );
+        let mut lz = Lanczos::new(n, p, max_basis, locked.as_ref(), *seed, bufs);
         lz.start(m);
         stats.lanczos_vectors += p;
         let check_from = (SLICE_MODES.min(remaining) * 3 / 2).max(2 * p);
@@ -1989,7 +1972,7 @@ fn unbroken_run(above: &[(f64, bool, usize)]) -> Option<usize> {
 /// B·V is not stored: the Gram products are Vᵀ·(B·u), with one more sparse product B·u per
 /// step. That halves the basis storage (8 MB instead of 16 MB per band on the 60-satellite
 /// stack), so that two bands running side by side keep their bases in a 32 MB L3 cache.
-struct Lanczos<'x> {
+struct Lanczos {
     n: usize,
     p: usize,
     max_basis: usize,
@@ -2004,29 +1987,31 @@ struct Lanczos<'x> {
     t: Mat<f64>,
     /// Coupling of the last block of T to the pending one (the residual block).
     r: Mat<f64>,
-    x: MatRef<'x, f64>,
-    bx: MatRef<'x, f64>,
+    /// Locked columns X at the front of `v`, so that one product against [X | V] does the
+    /// work of two (the X coefficients as Xᵀ·(B·u), with the B·u that V needs anyway).
+    k: usize,
     rng: ChaCha8Rng,
     exhausted: bool,
 }
 
-impl<'x> Lanczos<'x> {
+impl Lanczos {
     fn new(
         n: usize,
         p: usize,
         max_basis: usize,
-        x: MatRef<'x, f64>,
-        bx: MatRef<'x, f64>,
+        x: MatRef<'_, f64>,
         seed: u64,
         bufs: &mut Option<Mat<f64>>,
     ) -> Self {
         // Recycled basis storage: every column is written before it is read (`filled`), so
         // stale values never leak in; a fresh n × 200 basis would cost page faults and
         // zeroing on every slice (measured 8% of the 60-satellite solve).
-        let v = match bufs.take() {
-            Some(v) if v.nrows() == n && v.ncols() >= max_basis => v,
-            _ => Mat::zeros(n, max_basis),
+        let k = x.ncols();
+        let mut v = match bufs.take() {
+            Some(v) if v.nrows() == n && v.ncols() >= k + max_basis => v,
+            _ => Mat::zeros(n, k + max_basis),
         };
+        v.as_mut().subcols_mut(0, k).copy_from(x);
         Lanczos {
             n,
             p,
@@ -2037,8 +2022,7 @@ impl<'x> Lanczos<'x> {
             nb: 0,
             t: Mat::zeros(max_basis, max_basis),
             r: Mat::zeros(p, p),
-            x,
-            bx,
+            k,
             rng: ChaCha8Rng::seed_from_u64(seed),
             exhausted: false,
         }
@@ -2055,21 +2039,24 @@ impl<'x> Lanczos<'x> {
 
     /// Removes the X and V components of the columns of `u`, twice.
     fn orthogonalize(&self, mut u: MatMut<'_, f64>, upto: usize, b: &SymCsc) -> Mat<f64> {
+        let k = self.k;
         let mut coef = Mat::<f64>::zeros(upto, u.ncols());
+        if k + upto == 0 {
+            return coef;
+        }
+        let w = self.v.as_ref().subcols(0, k + upto);
         for _ in 0..2 {
-            if self.x.ncols() > 0 {
-                let c = self.bx.transpose() * u.as_ref();
-                matmul(u.as_mut(), Accum::Add, self.x, c.as_ref(), -1.0, Par::Seq);
-            }
-            if upto > 0 {
-                let vv = self.v.as_ref().subcols(0, upto);
-                let bu = b.mul(u.as_ref());
-                let c = vv.transpose() * &bu;
-                matmul(u.as_mut(), Accum::Add, vv, c.as_ref(), -1.0, Par::Seq);
-                coef += &c;
-            }
+            let bu = b.mul(u.as_ref());
+            let c = w.transpose() * &bu;
+            matmul(u.as_mut(), Accum::Add, w, c.as_ref(), -1.0, Par::Seq);
+            coef += c.as_ref().subrows(k, upto);
         }
         coef
+    }
+
+    /// The filled basis V (without the locked columns).
+    fn basis(&self, from: usize, cols: usize) -> MatRef<'_, f64> {
+        self.v.as_ref().subcols(self.k + from, cols)
     }
 
     /// The Lanczos step's orthogonalisation of `u` against X and the filled basis, and B·u.
@@ -2088,40 +2075,32 @@ impl<'x> Lanczos<'x> {
         mut u: MatMut<'_, f64>,
         b: &SymCsc,
     ) -> (Mat<f64>, Mat<f64>, Option<Mat<f64>>) {
-        let upto = self.filled;
-        let mut coef = Mat::<f64>::zeros(upto, u.ncols());
-        if self.x.ncols() > 0 {
-            let c = self.bx.transpose() * u.as_ref();
-            matmul(u.as_mut(), Accum::Add, self.x, c.as_ref(), -1.0, Par::Seq);
-        }
-        let vv = self.v.as_ref().subcols(0, upto);
-        // Both products against V are written with the 8-column block as the left operand
-        // (Vᵀ·B·u as (uᵀB·V)ᵀ, u − V·c as uᵀ − cᵀ·Vᵀ): faer then does not pack the n × m
+        let (k, upto) = (self.k, self.filled);
+        // [X | V]: the locked vectors and the filled basis, one product each way.
+        let w = self.v.as_ref().subcols(0, k + upto);
+        // Both products against W are written with the 8-column block as the left operand
+        // (Wᵀ·B·u as (uᵀB·W)ᵀ, u − W·c as uᵀ − cᵀ·Wᵀ): faer then does not pack the n × m
         // basis into its micro-panel layout on every call (measured: 5–8% of the 60-satellite
         // solve, frequencies unchanged).
-        let c = (b.mul(u.as_ref()).transpose() * vv).transpose().to_owned();
+        let c = (b.mul(u.as_ref()).transpose() * w).transpose().to_owned();
         matmul(
             u.as_mut().transpose_mut(),
             Accum::Add,
             c.transpose(),
-            vv.transpose(),
+            w.transpose(),
             -1.0,
             Par::Seq,
         );
-        coef += &c;
+        let mut coef = c.as_ref().subrows(k, upto).to_owned();
         let bu = b.mul(u.as_ref());
-        let cx = (self.x.ncols() > 0).then(|| self.bx.transpose() * u.as_ref());
-        let cv = (bu.transpose() * vv).transpose().to_owned();
+        let cv = (bu.transpose() * w).transpose().to_owned();
         let g = (u.ncols() <= 16).then(|| gram(u.as_ref(), bu.as_ref()));
         let needed = (0..u.ncols()).any(|j| {
             let norm2: f64 = match &g {
                 Some(g) => g[(j, j)],
                 None => (0..self.n).map(|i| u[(i, j)] * bu[(i, j)]).sum(),
             };
-            let mut c2 = cv.col(j).squared_norm_l2();
-            if let Some(cx) = &cx {
-                c2 += cx.col(j).squared_norm_l2();
-            }
+            let c2 = cv.col(j).squared_norm_l2();
             // NaN asks for the second pass too.
             let small = c2.partial_cmp(&(REORTH_SKIP * REORTH_SKIP * norm2));
             !matches!(
@@ -2132,18 +2111,15 @@ impl<'x> Lanczos<'x> {
         if !needed {
             return (coef, bu, g);
         }
-        if let Some(cx) = &cx {
-            matmul(u.as_mut(), Accum::Add, self.x, cx.as_ref(), -1.0, Par::Seq);
-        }
         matmul(
             u.as_mut().transpose_mut(),
             Accum::Add,
             cv.transpose(),
-            vv.transpose(),
+            w.transpose(),
             -1.0,
             Par::Seq,
         );
-        coef += &cv;
+        coef += cv.as_ref().subrows(k, upto);
         (coef, b.mul(u.as_ref()), None)
     }
 
@@ -2228,7 +2204,8 @@ impl<'x> Lanczos<'x> {
         let mut u = Mat::<f64>::from_fn(n, p, |_, _| self.rng.random::<f64>() - 0.5);
         let _ = self.orthogonalize(u.as_mut(), 0, b);
         let (u, bu, _, ex) = self.normalize(u, None, b, 0);
-        self.v.as_mut().subcols_mut(0, p).copy_from(u.as_ref());
+        let k = self.k;
+        self.v.as_mut().subcols_mut(k, p).copy_from(u.as_ref());
         self.bv_last = bu;
         self.filled = p;
         self.exhausted = ex;
@@ -2244,7 +2221,7 @@ impl<'x> Lanczos<'x> {
         let p = self.p;
         let j0 = self.nb * p;
         debug_assert_eq!(self.filled, j0 + p);
-        let mut u = op(self.v.as_ref().subcols(j0, p), self.bv_last.as_ref());
+        let mut u = op(self.basis(j0, p), self.bv_last.as_ref());
         let (coef, bu, g) = self.orthogonalize_step(u.as_mut(), b);
         // Diagonal block, symmetrised.
         for i in 0..p {
@@ -2260,7 +2237,8 @@ impl<'x> Lanczos<'x> {
         if self.exhausted || j1 + p > self.max_basis {
             return false;
         }
-        self.v.as_mut().subcols_mut(j1, p).copy_from(u.as_ref());
+        let k = self.k;
+        self.v.as_mut().subcols_mut(k + j1, p).copy_from(u.as_ref());
         self.bv_last = bu;
         self.filled = j1 + p;
         for i in 0..p {
@@ -2309,7 +2287,7 @@ impl<'x> Lanczos<'x> {
         matmul(
             y.as_mut(),
             Accum::Replace,
-            self.v.as_ref().subcols(0, m),
+            self.basis(0, m),
             sel.as_ref(),
             1.0,
             Par::Seq,
