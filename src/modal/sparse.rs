@@ -74,11 +74,11 @@
 //! projected eigen-problems, which grow with (modes below fmax) × (basis size) × n. With the
 //! default stack mesh about 45% of all DOFs have modes below 2 kHz, which is what sets the run
 //! time of `satqual bench modal`. Measured on the 60-satellite stack (one thread, 2.9 s in
-//! all, eigen-solve 2.8 s): the Gram–Schmidt products against [locked | basis] (BLAS-3
-//! through faer) about 0.75 s, the projected eigen-problems 0.5 s, the cluster step 0.45 s,
-//! then the LDLᵀ solves and the products with M (hand-written 8-wide kernels,
-//! [`simd_kernels`], built for AVX2/AVX-512 at run time), the block normalisation and the
-//! factorizations. What was cut, with the measured share: recycled basis storage instead of a
+//! all, eigen-solve 2.8 s): the Lanczos step's orthogonalisation 0.9 s (Gram–Schmidt
+//! products against [locked | basis], BLAS-3 through faer, with its two products by M), the
+//! cluster step 0.55 s, the projected eigen-problems 0.46 s, the LDLᵀ solves 0.19 s
+//! (hand-written 8-wide kernels, [`simd_kernels`], built for AVX2/AVX-512 at run time), the
+//! block normalisation 0.14 s, then the factorizations and the Ritz vectors. What was cut, with the measured share: recycled basis storage instead of a
 //! fresh n × 200 allocation per slice (8%); the second Gram–Schmidt update skipped when the
 //! first pass already left the block orthogonal to 1e-12 (99% of steps; 10%); the interleaved
 //! solve and product kernels (15%), and their transposes done in one pass per row through the
