@@ -1845,12 +1845,24 @@ fn cluster_pairs(
 /// (measured on the 287-fold cluster of the 60-satellite stack: the transforms of X and M·X
 /// were two thirds of the cluster step). `None` when the block is numerically rank deficient.
 fn m_orthonormalize(m: &SymCsc, mut x: Mat<f64>) -> Option<(Mat<f64>, Mat<f64>)> {
+    use faer::linalg::matmul::triangular::{self, BlockStructure};
     use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
     let q = x.ncols();
     let mut mx = m.mul(x.as_ref());
+    let mut g = Mat::<f64>::zeros(q, q);
     for _ in 0..2 {
-        let g0 = x.transpose() * &mx;
-        let g = Mat::<f64>::from_fn(q, q, |i, j| 0.5 * (g0[(i, j)] + g0[(j, i)]));
+        // The lower triangle of Xᵀ·M·X only (half the product): the Cholesky reads no more.
+        triangular::matmul(
+            g.as_mut(),
+            BlockStructure::TriangularLower,
+            Accum::Replace,
+            x.transpose(),
+            BlockStructure::Rectangular,
+            mx.as_ref(),
+            BlockStructure::Rectangular,
+            1.0,
+            Par::Seq,
+        );
         let l = g.llt(Side::Lower).ok()?.L().to_owned();
         // NaN fails this too.
         if !(0..q).all(|i| l[(i, i)] * l[(i, i)] > 1e-10 * g[(i, i)]) {
