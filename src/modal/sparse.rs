@@ -28,9 +28,9 @@
 //! 1. σ₀ < 0 below the whole spectrum (count 0; a negative shift also factors free-free models
 //!    whose K is singular, and finds their rigid-body modes). It is the first slice's edge a.
 //! 2. Above an edge a (count c(a), everything below found), the shift s sits inside the slice,
-//!    about half a slice of modes above a (from the previous slice's density, or the band's for
-//!    a band's first slice), and is counted too. Lanczos at s, deflated against the previous slice's vectors, converges eigenvalues
-//!    on both sides of s.
+//!    about half a slice of modes above a (from the previous slice's density, or the band's
+//!    for a band's first slice), and is counted too. Lanczos at s, deflated against the
+//!    previous slice's vectors, converges eigenvalues on both sides of s.
 //! 3. Once all c(s) − c(a) eigenvalues of [a, s) have converged and an unbroken run above s
 //!    has too (about [`SLICE_MODES`] in all), the next edge b goes between the run's last
 //!    eigenvalue and the next Ritz value, and K − bM is factored: if c(b) − c(a) equals the
@@ -78,13 +78,14 @@
 //! products against [locked | basis], BLAS-3 through faer, with its two products by M), the
 //! cluster step 0.55 s, the projected eigen-problems 0.46 s, the LDLᵀ solves 0.19 s
 //! (hand-written 8-wide kernels, [`simd_kernels`], built for AVX2/AVX-512 at run time), the
-//! block normalisation 0.14 s, then the factorizations and the Ritz vectors. What was cut, with the measured share: recycled basis storage instead of a
-//! fresh n × 200 allocation per slice (8%); the second Gram–Schmidt update skipped when the
-//! first pass already left the block orthogonal to 1e-12 (99% of steps; 10%); the interleaved
-//! solve and product kernels (15%), and their transposes done in one pass per row through the
-//! inverse permutation with per-thread scratch (13%); B·V not stored, so that two bands keep
-//! their bases in the shared L3 cache; the cluster's subspace orthonormalised by triangular
-//! solves (6%); a band's first shift moved inside the band (5% fewer Lanczos vectors).
+//! block normalisation 0.14 s, then the factorizations and the Ritz vectors. What was cut,
+//! with the measured share: recycled basis storage instead of a fresh n × 200 allocation per
+//! slice (8%); the second Gram–Schmidt update skipped when the first pass already left the
+//! block orthogonal to 1e-12 (99% of steps; 10%); the interleaved solve and product kernels
+//! (15%), and their transposes done in one pass per row through the inverse permutation with
+//! per-thread scratch (13%); B·V not stored, so that two bands keep their bases in the shared
+//! L3 cache; the cluster's subspace orthonormalised by triangular solves (6%); a band's first
+//! shift moved inside the band (5% fewer Lanczos vectors).
 //!
 //! # Why hand-written
 //! faer 0.24 offers sparse LDLᵀ but no sparse symmetric eigen-solver, and no maintained Rust
@@ -215,16 +216,7 @@ fn scatter_rows(
         Some(inv) => inv[o],
         None => o,
     };
-    let mut cols: Vec<&mut [f64]> = y
-        .as_mut()
-        .subcols_mut(c0, w)
-        .col_iter_mut()
-        .map(|c| {
-            c.try_as_col_major_mut()
-                .expect("faer matrices are column-major")
-                .as_slice_mut()
-        })
-        .collect();
+    let mut cols = columns_mut(y.as_mut().subcols_mut(c0, w));
     if w == 8 {
         let [c0, c1, c2, c3, c4, c5, c6, c7] = &mut cols[..] else {
             unreachable!("eight columns")
@@ -285,8 +277,9 @@ fn with_scratch<R>(n: usize, f: impl FnOnce(&mut [[f64; 8]], &mut [[f64; 8]]) ->
     })
 }
 
-/// The two sparse kernels of the Lanczos iteration, on rows of eight interleaved
-/// right-hand sides, with a plain, an AVX2 and an AVX-512 build of the same source.
+/// The kernels of the Lanczos iteration, each with a plain, an AVX2 and an AVX-512 build of
+/// the same source: the two sparse ones on rows of eight interleaved right-hand sides, and the
+/// block normalisation's Gram matrix and triangular product on column slices.
 mod simd_kernels {
     /// y_i = Σ_r A_ir·x_r over the rows of a symmetric CSC matrix (column i = row i).
     #[inline(always)]
@@ -1884,8 +1877,8 @@ fn chol_qr2(
 ) -> Option<(Mat<f64>, Mat<f64>, Mat<f64>)> {
     use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
     let p = u.ncols();
-    // Blocks of the Lanczos step go through the 8-wide kernels (in place, one pass per
-    // product); wider ones (a cluster's subspace) through faer.
+    // Blocks of up to 16 columns go through the SIMD kernels (in place, one pass per
+    // product); a restart's wider block (up to 40) through faer.
     let small = p <= 16;
     let mut u = u.clone();
     let mut bu = bu.clone();
