@@ -258,3 +258,78 @@ fn exit_speed_distribution_converges_with_tolerance() {
         b.final_speed_m_s.p50
     );
 }
+
+/// A spring that has reached its end of action switches off, and one that comes back within
+/// its stroke switches on again (both are located events). Satellite 1 is pushed off first
+/// (interface 1 at 0.312 s, satellite 2 still latched); at 1 s interface 2, with springs twice
+/// as stiff, pushes satellite 2 after it. It catches up, and the interface-1 springs take the
+/// blow again. Symmetric springs and a centred CG keep the motion axial (no bar contacts), the
+/// springs are conservative and both satellites have the same mass, so the encounter is a 1-D
+/// elastic collision: the velocities swap. Reference: each push alone gives √(4k·s²/m), so the
+/// satellites end at v₁ = √(4·2k·s²/m) and v₂ = √(4k·s²/m), to 1e-6 relative (the integration
+/// tolerance of the peak-speed test above). A re-compressed spring that did not push would
+/// let satellite 2 pass through satellite 1 (a negative axial gap) and leave the energy audit
+/// open by the work it "absorbed". (Before the switch-on was an event, the force came back
+/// unlocated in mid-step: satellite 1 ended 3.8e-6 relative off.)
+#[test]
+fn a_spring_coming_back_within_its_stroke_pushes_again() {
+    let text = r#"
+[[material]]
+name = "steel"
+youngs_modulus_pa = 210e9
+poisson_ratio = 0.3
+density_kg_m3 = 7850
+
+[stack]
+satellites = 2
+satellite_mass_kg = 150.0
+satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
+satellite_pitch_m = 0.5
+base_height_m = 0.2
+column_spacing_m = [1.0, 0.8]
+column_outer_diameter_m = 0.04
+column_inner_diameter_m = 0.021
+column_material = "steel"
+bar_diameter_m = 0.02
+bar_length_m = 5.0
+bar_material = "steel"
+preload_total_n = 45000.0
+[stack.interface]
+axial_stiffness_n_m = 1e8
+shear_stiffness_n_m = 1e8
+rotational_stiffness_n_m_rad = 1e6
+torsional_stiffness_n_m_rad = 1e6
+
+[separation]
+bar_modes = "rigid"
+[separation.spring]
+stiffness_n_m = 700.0
+stroke_m = 0.08
+"#;
+    let scene = Scene::parse(Path::new("rebound.toml"), text).unwrap();
+    let mut m = Model::from_scene(&scene).unwrap();
+    m.release_times_s = vec![Some(0.312), Some(1.0)];
+    for s in m.springs.iter_mut().filter(|s| s.interface == 2) {
+        s.stiffness_n_m *= 2.0;
+    }
+    let (k, s) = (700.0, 0.08);
+    assert!(m.springs.iter().all(|p| p.end_of_action_m() == s));
+    let mass = m.satellites[0].mass_kg;
+    assert_eq!(mass, m.satellites[1].mass_kg);
+    let r = separation::run(&m, &RunOptions::default()).unwrap();
+    let v1 = (4.0 * 2.0 * k * s * s / mass).sqrt();
+    let v2 = (4.0 * k * s * s / mass).sqrt();
+    for (sat, v) in r.satellites.iter().zip([v1, v2]) {
+        assert!(
+            (sat.final_speed_m_s - v).abs() / v < 1e-6,
+            "satellite {}: {} m/s against {v} m/s",
+            sat.index,
+            sat.final_speed_m_s
+        );
+        assert_eq!(sat.contacts, 0);
+    }
+    let gap = r.min_clearance_m.expect("both satellites released");
+    assert!(gap >= 0.0, "axial gap {gap} m");
+    // The issue's audit bound: residual < 1e-6 of the spring energy.
+    assert!(r.energy.max_relative_residual < 1e-6, "{:?}", r.energy);
+}

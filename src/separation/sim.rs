@@ -142,6 +142,11 @@ struct Sim<'a> {
     spring_low: Vec<V3>,
     free: Vec<bool>,
     released: Vec<bool>,
+    /// Per spring: released and short of its end of action, so that it pushes. Switched at the
+    /// located events of its extension (either way), so the right-hand side skips the springs
+    /// that have done their work (most of them for most of a run) without computing their
+    /// extension; a spring that comes back within its stroke switches on again at that event.
+    spring_on: Vec<bool>,
     edges: Vec<EdgeContact>,
     transitions: Transitions,
     contacts: Vec<usize>,
@@ -289,6 +294,7 @@ impl<'a> Sim<'a> {
             spring_low,
             free: vec![false; n + 1],
             released: vec![false; n + 1],
+            spring_on: vec![false; m.springs.len()],
             edges: vec![EdgeContact::default(); 8 * n],
             transitions: Transitions::default(),
             contacts: vec![0; n],
@@ -647,7 +653,7 @@ impl<'a> Sim<'a> {
         // Springs of released interfaces: +F on the upper body, −F on the lower one, both at
         // the upper spring point, along the lower body's axis.
         for (si, s) in self.m.springs.iter().enumerate() {
-            if !self.released[s.interface] {
+            if !self.spring_on[si] {
                 continue;
             }
             let (ext, pu, zl) = self.spring_ext(frames, si);
@@ -913,7 +919,12 @@ impl<'a> Sim<'a> {
             !self.edges[ei].past_tip && self.free[ei / 8 + 1] && a < 0.0 && b >= 0.0
         } else {
             let si = idx - 2 * n8;
-            self.released[self.m.springs[si].interface] && a < 0.0 && b >= 0.0
+            self.released[self.m.springs[si].interface]
+                && if self.spring_on[si] {
+                    a < 0.0 && b >= 0.0
+                } else {
+                    a >= 0.0 && b < 0.0
+                }
         }
     }
 
@@ -987,8 +998,13 @@ impl<'a> Sim<'a> {
     /// fixed carrier is broken start moving.
     fn apply_releases(&mut self, t: f64) {
         for k in 1..=self.n {
-            if self.m.release_times_s[k - 1].is_some_and(|tk| tk <= t) {
+            if !self.released[k] && self.m.release_times_s[k - 1].is_some_and(|tk| tk <= t) {
                 self.released[k] = true;
+                for (si, s) in self.m.springs.iter().enumerate() {
+                    if s.interface == k {
+                        self.spring_on[si] = true;
+                    }
+                }
             }
         }
         // Groups of latched bodies; body n + 1 stands for the carrier (index 0).
@@ -1250,9 +1266,13 @@ impl<'a> Sim<'a> {
                             [ig.y[o + 10], ig.y[o + 11], ig.y[o + 12]],
                         ));
                     }
+                } else {
+                    // A spring reaching its end of action switches off (one coming back within
+                    // it switches on); the step ends on the switch, and the FSAL refresh below
+                    // restarts after it.
+                    let si = idx - 2 * n8;
+                    self.spring_on[si] = !self.spring_on[si];
                 }
-                // Spring end of action: the force function itself switches; the step now
-                // ends on the switch, and the FSAL refresh below restarts after it.
             }
             // Contact-state maintenance at the step end (eq. 38) for edges without an event.
             for ei in 0..n8 {
