@@ -271,13 +271,16 @@ pub mod defaults {
     pub fn min_impact_speed_m_s() -> f64 {
         1e-4
     }
-    /// Measured (`satqual bench separation`, tests/separation_accuracy.rs): at 1e-8 the exit
-    /// speeds of the well-conditioned reference cases move < 1e-4 m/s against 1e-10 (at 1e-7
-    /// the flexible first release of the reference scene moved 1.4e-4 m/s) and the energy
-    /// residual is ~1e-10 of the spring energy; looser tolerances save little time, because
-    /// the contact pulses, not the tolerance, set the step in contact phases.
+    /// The loosest decade that keeps every accuracy criterion of the separation with a wide
+    /// margin, measured (`satqual bench separation`, tests/separation_accuracy.rs): at 1e-6 the
+    /// energy residual is ~1e-8 of the spring energy (criterion 1e-6), the well-conditioned
+    /// exit speeds are within ~1e-6 m/s of a 1e-12 run (criterion: < 1e-4 m/s against
+    /// tol/100), and the seeded Monte Carlo's exit-speed distribution agrees with tol/100.
+    /// The chaotic scatter of a flexible run's exit speeds is ~1e-3 m/s, a thousand times the
+    /// integration error. Mean work over 16 realizations of the reference scene: 1e-8 costs
+    /// 1.9× the right-hand sides of 1e-6; 1e-5 breaks the convergence criterion.
     pub fn tolerance() -> f64 {
-        1e-8
+        1e-6
     }
     /// 20 ms. A contact that opens and closes between two step ends is still felt by the
     /// stages inside the step (the error estimate then rejects and shortens the step); this
