@@ -12,6 +12,46 @@ fn paper() -> (Scene, Model) {
     (scene, model)
 }
 
+/// A small stack of `satellites` 150 kg satellites on steel bars of `bar_length_m`, with
+/// rigid bars and 700 N/m springs of 0.08 m stroke; `extra` is appended to `[separation]`.
+fn small_stack(satellites: usize, bar_length_m: f64, extra: &str) -> String {
+    format!(
+        r#"
+[[material]]
+name = "steel"
+youngs_modulus_pa = 210e9
+poisson_ratio = 0.3
+density_kg_m3 = 7850
+
+[stack]
+satellites = {satellites}
+satellite_mass_kg = 150.0
+satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
+satellite_pitch_m = 0.5
+base_height_m = 0.2
+column_spacing_m = [1.0, 0.8]
+column_outer_diameter_m = 0.04
+column_inner_diameter_m = 0.021
+column_material = "steel"
+bar_diameter_m = 0.02
+bar_length_m = {bar_length_m}
+bar_material = "steel"
+preload_total_n = 45000.0
+[stack.interface]
+axial_stiffness_n_m = 1e8
+shear_stiffness_n_m = 1e8
+rotational_stiffness_n_m_rad = 1e6
+torsional_stiffness_n_m_rad = 1e6
+
+[separation]
+bar_modes = "rigid"
+[separation.spring]
+stiffness_n_m = 700.0
+stroke_m = 0.08
+{extra}"#
+    )
+}
+
 /// The model with every spring at its nominal stiffness (no error).
 fn ideal(scene: &Scene, mut m: Model) -> Model {
     let k = scene.file.separation.as_ref().unwrap().spring.stiffness_n_m;
@@ -82,43 +122,12 @@ fn ideal_release_peak_speed_is_the_analytic_spring_speed() {
 /// √(Σk·s²/μ) with the reduced mass μ = m₁m₂/(m₁ + m₂); the satellite's share is μ/m₁ of it.
 #[test]
 fn two_body_push_uses_the_reduced_mass() {
-    let text = r#"
-[[material]]
-name = "steel"
-youngs_modulus_pa = 210e9
-poisson_ratio = 0.3
-density_kg_m3 = 7850
-
-[stack]
-satellites = 1
-satellite_mass_kg = 150.0
-satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
-satellite_pitch_m = 0.5
-base_height_m = 0.2
-column_spacing_m = [1.0, 0.8]
-column_outer_diameter_m = 0.04
-column_inner_diameter_m = 0.021
-column_material = "steel"
-bar_diameter_m = 0.02
-bar_length_m = 1.5
-bar_material = "steel"
-preload_total_n = 45000.0
-[stack.interface]
-axial_stiffness_n_m = 1e8
-shear_stiffness_n_m = 1e8
-rotational_stiffness_n_m_rad = 1e6
-torsional_stiffness_n_m_rad = 1e6
-
-[separation]
-bar_modes = "rigid"
-[separation.spring]
-stiffness_n_m = 700.0
-stroke_m = 0.08
-[separation.carrier]
-mass_kg = 450.0
-inertia_kg_m2 = [100.0, 100.0, 150.0]
-"#;
-    let scene = Scene::parse(Path::new("two-body.toml"), text).unwrap();
+    let text = small_stack(
+        1,
+        1.5,
+        "[separation.carrier]\nmass_kg = 450.0\ninertia_kg_m2 = [100.0, 100.0, 150.0]\n",
+    );
+    let scene = Scene::parse(Path::new("two-body.toml"), &text).unwrap();
     let m = Model::from_scene(&scene).unwrap();
     let r = separation::run(&m, &RunOptions::default()).unwrap();
     // The released body: the satellite plus its four steel columns (satellite_mass_kg excludes
@@ -273,40 +282,8 @@ fn exit_speed_distribution_converges_with_tolerance() {
 /// unlocated in mid-step: satellite 1 ended 3.8e-6 relative off.)
 #[test]
 fn a_spring_coming_back_within_its_stroke_pushes_again() {
-    let text = r#"
-[[material]]
-name = "steel"
-youngs_modulus_pa = 210e9
-poisson_ratio = 0.3
-density_kg_m3 = 7850
-
-[stack]
-satellites = 2
-satellite_mass_kg = 150.0
-satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
-satellite_pitch_m = 0.5
-base_height_m = 0.2
-column_spacing_m = [1.0, 0.8]
-column_outer_diameter_m = 0.04
-column_inner_diameter_m = 0.021
-column_material = "steel"
-bar_diameter_m = 0.02
-bar_length_m = 5.0
-bar_material = "steel"
-preload_total_n = 45000.0
-[stack.interface]
-axial_stiffness_n_m = 1e8
-shear_stiffness_n_m = 1e8
-rotational_stiffness_n_m_rad = 1e6
-torsional_stiffness_n_m_rad = 1e6
-
-[separation]
-bar_modes = "rigid"
-[separation.spring]
-stiffness_n_m = 700.0
-stroke_m = 0.08
-"#;
-    let scene = Scene::parse(Path::new("rebound.toml"), text).unwrap();
+    let text = small_stack(2, 5.0, "");
+    let scene = Scene::parse(Path::new("rebound.toml"), &text).unwrap();
     let mut m = Model::from_scene(&scene).unwrap();
     m.release_times_s = vec![Some(0.312), Some(1.0)];
     for s in m.springs.iter_mut().filter(|s| s.interface == 2) {
