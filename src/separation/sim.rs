@@ -650,8 +650,8 @@ impl<'a> Sim<'a> {
             force[b] = add(force[b], f);
             torque[b] = add(torque[b], cross(sub(at, frames[b].x), f));
         };
-        // Springs of released interfaces: +F on the upper body, −F on the lower one, both at
-        // the upper spring point, along the lower body's axis.
+        // Springs that push (released, short of their end of action): +F on the upper body,
+        // −F on the lower one, both at the upper spring point, along the lower body's axis.
         for (si, s) in self.m.springs.iter().enumerate() {
             if !self.spring_on[si] {
                 continue;
