@@ -1,6 +1,8 @@
 //! Separation accuracy against analytic answers and the paper (issue 6, "Accuracy tests").
 //! Every reference value names its source and tolerance.
 
+mod common;
+use common::small_stack;
 use satqual::separation::{self, Model, RunOptions};
 use satqual::spec::Scene;
 use std::path::Path;
@@ -10,46 +12,6 @@ fn paper() -> (Scene, Model) {
     let scene = Scene::load(&p).expect("paper-stack.toml loads");
     let model = Model::from_scene(&scene).expect("paper-stack.toml builds");
     (scene, model)
-}
-
-/// A small stack of `satellites` 150 kg satellites on steel bars of `bar_length_m`, with
-/// rigid bars and 700 N/m springs of 0.08 m stroke; `extra` is appended to `[separation]`.
-fn small_stack(satellites: usize, bar_length_m: f64, extra: &str) -> String {
-    format!(
-        r#"
-[[material]]
-name = "steel"
-youngs_modulus_pa = 210e9
-poisson_ratio = 0.3
-density_kg_m3 = 7850
-
-[stack]
-satellites = {satellites}
-satellite_mass_kg = 150.0
-satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
-satellite_pitch_m = 0.5
-base_height_m = 0.2
-column_spacing_m = [1.0, 0.8]
-column_outer_diameter_m = 0.04
-column_inner_diameter_m = 0.021
-column_material = "steel"
-bar_diameter_m = 0.02
-bar_length_m = {bar_length_m}
-bar_material = "steel"
-preload_total_n = 45000.0
-[stack.interface]
-axial_stiffness_n_m = 1e8
-shear_stiffness_n_m = 1e8
-rotational_stiffness_n_m_rad = 1e6
-torsional_stiffness_n_m_rad = 1e6
-
-[separation]
-bar_modes = "rigid"
-[separation.spring]
-stiffness_n_m = 700.0
-stroke_m = 0.08
-{extra}"#
-    )
 }
 
 /// The model with every spring at its nominal stiffness (no error).
@@ -125,6 +87,7 @@ fn two_body_push_uses_the_reduced_mass() {
     let text = small_stack(
         1,
         1.5,
+        "",
         "[separation.carrier]\nmass_kg = 450.0\ninertia_kg_m2 = [100.0, 100.0, 150.0]\n",
     );
     let scene = Scene::parse(Path::new("two-body.toml"), &text).unwrap();
@@ -282,7 +245,7 @@ fn exit_speed_distribution_converges_with_tolerance() {
 /// unlocated in mid-step: satellite 1 ended 3.8e-6 relative off.)
 #[test]
 fn a_spring_coming_back_within_its_stroke_pushes_again() {
-    let text = small_stack(2, 5.0, "");
+    let text = small_stack(2, 5.0, "", "");
     let scene = Scene::parse(Path::new("rebound.toml"), &text).unwrap();
     let mut m = Model::from_scene(&scene).unwrap();
     m.release_times_s = vec![Some(0.312), Some(1.0)];

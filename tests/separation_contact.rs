@@ -2,52 +2,26 @@
 //! impact, and the stability stress sweep (contact stiffness, clearance, friction, spring
 //! error). The sweep writes its step counts to `reports/tests/separation-stress.md`.
 
+mod common;
+use common::small_stack;
 use satqual::separation::{self, Model, RunOptions};
 use satqual::spec::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
 
-const SMALL: &str = r#"
-[[material]]
-name = "steel"
-youngs_modulus_pa = 210e9
-poisson_ratio = 0.3
-density_kg_m3 = 7850
-
-[stack]
-satellites = 1
-satellite_mass_kg = 150.0
-satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
-satellite_pitch_m = 0.5
-base_height_m = 0.2
-column_spacing_m = [1.0, 0.8]
-column_outer_diameter_m = 0.04
-column_inner_diameter_m = 0.021
-column_material = "steel"
-bar_diameter_m = 0.02
-bar_length_m = 1.5
-bar_material = "steel"
-preload_total_n = 45000.0
-[stack.interface]
-axial_stiffness_n_m = 1e8
-shear_stiffness_n_m = 1e8
-rotational_stiffness_n_m_rad = 1e6
-torsional_stiffness_n_m_rad = 1e6
-
-[separation]
-bar_modes = "rigid"
-tolerance = 1e-9
-[separation.spring]
-stiffness_n_m = 700.0
-stroke_m = 0.08
-[separation.contact]
-friction = 0.0
-"#;
-
 /// One lateral impact of a satellite (all four columns' edges at once, pure translation) on
 /// rigid bars; returns −v_after/v_before.
 fn restitution(ce: f64) -> f64 {
-    let scene = Scene::parse(Path::new("impact.toml"), SMALL).unwrap();
+    let scene = Scene::parse(
+        Path::new("impact.toml"),
+        &small_stack(
+            1,
+            1.5,
+            "tolerance = 1e-9\n",
+            "[separation.contact]\nfriction = 0.0\n",
+        ),
+    )
+    .unwrap();
     let mut m = Model::from_scene(&scene).unwrap();
     m.contact.restitution = ce;
     m.release_times_s = vec![None];
