@@ -367,6 +367,11 @@ impl Dopri5 {
         }
     }
 
+    /// Caps the next proposed step (the caller knows a scale the error estimate misjudges).
+    pub fn limit_next_step(&mut self, h: f64) {
+        self.h = self.h.min(h);
+    }
+
     /// The first component that is non-finite in the last trial's stages or result.
     fn non_finite_stage(&self) -> Option<usize> {
         (0..self.y.len())
