@@ -148,10 +148,10 @@ struct Sim<'a> {
     /// extension; a spring that comes back within its stroke switches on again at that event.
     spring_on: Vec<bool>,
     edges: Vec<EdgeContact>,
-    /// The edges in collision or contact, ascending. Only they carry a force: every onset
-    /// and exit is a located event that ends a step, so within a step the set is fixed, and
-    /// a trial step that runs past an onset integrates the free motion, which is exact up to
-    /// the onset that the dense output then locates.
+    /// The edges that carry a force, ascending (see `update_touching`). Only they do: every
+    /// onset and exit is a located event that ends a step, so within a step the set is fixed,
+    /// and a trial step that runs past an onset integrates the free motion, which is exact up
+    /// to the onset that the dense output then locates.
     touching: Vec<usize>,
     transitions: Transitions,
     contacts: Vec<usize>,
@@ -686,63 +686,60 @@ impl<'a> Sim<'a> {
         for &ei in &self.touching {
             let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
             let s = &frames[i];
-            {
-                {
-                    let ec = &self.edges[ei];
-                    let ek = self.edge_kin(y, c0, s, i, j, k, true);
-                    if ek.delta <= 0.0 || ek.z < 0.0 || ek.z > len {
-                        continue;
-                    }
-                    let v_imp = ec.impact_speed.unwrap_or(c.min_impact_speed);
-                    let (fnrm, fel) = c.normal_and_elastic(ek.delta, ek.delta_dot, v_imp);
-                    p_contact += (fnrm - fel) * ek.delta_dot;
-                    let n = ek.n;
-                    // −F·∇δ: lateral along n, axial from the bar slope.
-                    let f_loc = [
-                        fnrm * n[0],
-                        fnrm * n[1],
-                        -fnrm * (n[0] * ek.slope[0] + n[1] * ek.slope[1]),
-                    ];
-                    let f_w = mul(&c0.r, f_loc);
-                    apply(i, f_w, ek.p, force, torque);
-                    apply(0, scale(f_w, -1.0), ek.p, force, torque);
-                    let mut bar_f = [-fnrm * n[0], -fnrm * n[1]];
-                    if c.friction > 0.0 {
-                        let rc = mul(
-                            &c0.r,
-                            [
-                                self.m.bore_radius_m * n[0],
-                                self.m.bore_radius_m * n[1],
-                                0.0,
-                            ],
-                        );
-                        let cpt = add(ek.p, rc);
-                        let vc = add(ek.vp, cross(s.w, rc));
-                        let vrel_w = sub(sub(vc, c0.v), cross(c0.w, sub(cpt, c0.x)));
-                        let vr = mul_t(&c0.r, vrel_w);
-                        let vr = [vr[0] - ek.udot[0], vr[1] - ek.udot[1], vr[2]];
-                        let vn = vr[0] * n[0] + vr[1] * n[1];
-                        let vt = [vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2]];
-                        let vtm = norm(vt);
-                        let cd = c.friction_factor(vtm);
-                        if cd > 0.0 {
-                            let ft = c.friction * cd * fnrm;
-                            let ft_loc = scale(vt, -ft / vtm);
-                            let ft_w = mul(&c0.r, ft_loc);
-                            apply(i, ft_w, cpt, force, torque);
-                            apply(0, scale(ft_w, -1.0), cpt, force, torque);
-                            bar_f[0] -= ft_loc[0];
-                            bar_f[1] -= ft_loc[1];
-                            p_fric += ft * vtm;
-                        }
-                    }
-                    for mo in 0..self.nm {
-                        q_gen[(j * 2) * self.nm + mo] += bar_f[0] * ek.phi[mo];
-                        q_gen[(j * 2 + 1) * self.nm + mo] += bar_f[1] * ek.phi[mo];
-                    }
+            let ec = &self.edges[ei];
+            let ek = self.edge_kin(y, c0, s, i, j, k, true);
+            if ek.delta <= 0.0 || ek.z < 0.0 || ek.z > len {
+                continue;
+            }
+            let v_imp = ec.impact_speed.unwrap_or(c.min_impact_speed);
+            let (fnrm, fel) = c.normal_and_elastic(ek.delta, ek.delta_dot, v_imp);
+            p_contact += (fnrm - fel) * ek.delta_dot;
+            let n = ek.n;
+            // −F·∇δ: lateral along n, axial from the bar slope.
+            let f_loc = [
+                fnrm * n[0],
+                fnrm * n[1],
+                -fnrm * (n[0] * ek.slope[0] + n[1] * ek.slope[1]),
+            ];
+            let f_w = mul(&c0.r, f_loc);
+            apply(i, f_w, ek.p, force, torque);
+            apply(0, scale(f_w, -1.0), ek.p, force, torque);
+            let mut bar_f = [-fnrm * n[0], -fnrm * n[1]];
+            if c.friction > 0.0 {
+                let rc = mul(
+                    &c0.r,
+                    [
+                        self.m.bore_radius_m * n[0],
+                        self.m.bore_radius_m * n[1],
+                        0.0,
+                    ],
+                );
+                let cpt = add(ek.p, rc);
+                let vc = add(ek.vp, cross(s.w, rc));
+                let vrel_w = sub(sub(vc, c0.v), cross(c0.w, sub(cpt, c0.x)));
+                let vr = mul_t(&c0.r, vrel_w);
+                let vr = [vr[0] - ek.udot[0], vr[1] - ek.udot[1], vr[2]];
+                let vn = vr[0] * n[0] + vr[1] * n[1];
+                let vt = [vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2]];
+                let vtm = norm(vt);
+                let cd = c.friction_factor(vtm);
+                if cd > 0.0 {
+                    let ft = c.friction * cd * fnrm;
+                    let ft_loc = scale(vt, -ft / vtm);
+                    let ft_w = mul(&c0.r, ft_loc);
+                    apply(i, ft_w, cpt, force, torque);
+                    apply(0, scale(ft_w, -1.0), cpt, force, torque);
+                    bar_f[0] -= ft_loc[0];
+                    bar_f[1] -= ft_loc[1];
+                    p_fric += ft * vtm;
                 }
             }
+            for mo in 0..self.nm {
+                q_gen[(j * 2) * self.nm + mo] += bar_f[0] * ek.phi[mo];
+                q_gen[(j * 2 + 1) * self.nm + mo] += bar_f[1] * ek.phi[mo];
+            }
         }
+
         // Bars: q̈ + 2ζω q̇ + ω² q = Q (unit modal mass).
         let mut p_bar = 0.0;
         if let Some(bar) = &self.m.bars {
