@@ -495,12 +495,7 @@ impl<'a> Sim<'a> {
     /// Offset from the edge point to the deflected centreline of bar `j`, carrier x and y.
     #[inline(always)]
     fn edge_offset(&self, y: &[f64], j: usize, r: &EdgeRigid) -> [f64; 2] {
-        self.offset_at(y, j, r.pl, &r.phi)
-    }
-
-    /// [`Self::edge_offset`] of an edge point `pl` (carrier frame) with mode shapes `phi` there.
-    #[inline(always)]
-    fn offset_at(&self, y: &[f64], j: usize, pl: V3, phi: &[f64; MAX_BAR_MODES]) -> [f64; 2] {
+        let (pl, phi) = (r.pl, &r.phi);
         let col = self.m.columns_xy[j];
         let mut u = [0.0; 2];
         if self.m.bars.is_some() {
@@ -687,7 +682,9 @@ impl<'a> Sim<'a> {
             let (i, j, k) = (ei / 8 + 1, (ei % 8) / 2, ei % 2);
             let s = &frames[i];
             let ec = &self.edges[ei];
-            let ek = self.edge_kin(y, c0, s, i, j, k, true);
+            // Full kinematics at once: a listed edge almost always touches, so a δ-only
+            // pre-screen would only compute δ twice more.
+            let ek = self.edge_kin(y, c0, s, i, j, k, false);
             if ek.delta <= 0.0 || ek.z < 0.0 || ek.z > len {
                 continue;
             }
