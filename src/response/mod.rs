@@ -1,5 +1,5 @@
 //! Base-driven sine and random response by modal superposition, load recovery and the
-//! lock-integrity margins (issue 4).
+//! lock-integrity margins (gapping, slip and guide-bar strength of the preloaded joints).
 //!
 //! Inputs: the FE model (`fem`) and its modes and prestress (`modal`); the excitation,
 //! damping, output points and margin factors from the scene (`spec::analysis`).

@@ -1,7 +1,6 @@
 //! The response-analysis sections of a scene: `[damping]`, `[sine]` with `[[sine.segment]]`,
 //! `[random]`, `[[response]]` output points and `[margins]` (the lock-integrity factors).
-//! Owned by the response issue (issue 4); read by `response` (sine, random, load recovery,
-//! margins) and later by `gates`/`pipeline`.
+//! Read by `response` (sine, random, load recovery, margins) and by `gates`/`pipeline`.
 //!
 //! Every default of the lock-integrity margins lives in [`MarginsSpec::default`], with its
 //! source; nowhere else in the code is a factor of safety written down.
@@ -172,8 +171,8 @@ pub struct MarginsSpec {
     /// Ultimate factor of safety for the guide bars. NASA-STD-5001B Table 1 (1.4).
     pub ultimate_factor: f64,
     /// Add the joint's bending moment to the gapping load as M·A/Z of the column-tube face
-    /// (the moment that lifts the face edge). Off by default: the issue's criterion uses the
-    /// axial tension, and the real contact face (flanges) is not in the scene, so the tube
+    /// (the moment that lifts the face edge). Off by default: the gapping margin MS_sep =
+    /// P_min/(FF·FS_sep·P_ext) − 1 takes the joint's axial tension as P_ext, and the real contact face (flanges) is not in the scene, so the tube
     /// section would overstate the edge lift.
     pub include_face_moment: bool,
 }

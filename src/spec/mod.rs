@@ -1,12 +1,15 @@
-//! Scene files: TOML text -> validated [`Scene`]. Owns the scene contract of DESIGN.md
-//! (unit-suffixed keys, `deny_unknown_fields`) and the mapping of every problem to a file,
-//! line, column and dotted key. Inputs come from the user's scene file only.
+//! Scene files: TOML text -> validated [`Scene`]. Owns the scene contract (unit-suffixed keys,
+//! `deny_unknown_fields`; every key is listed in `docs/scene-format.md`, which a test keeps in
+//! step with these types) and the mapping of every problem to a file, line, column and dotted
+//! key. Inputs come from the user's scene file only.
 //!
 //! Locations: serde reports byte spans for syntax and type errors; semantic checks report a
 //! dotted key path (`beam[2].orientation`), which [`Locator`] resolves to a line and column
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod analysis;
+#[cfg(test)]
+mod doc_keys;
 pub mod model;
 pub mod qualify;
 pub mod separation;
@@ -50,7 +53,8 @@ pub struct SceneFile {
     pub static_load: Vec<StaticLoad>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub modal: Option<ModalSpec>,
-    /// A parametric stack, expanded into the generic model (issue: the preloaded stack).
+    /// A parametric stack of satellites, expanded into the generic model so that every
+    /// analysis sees one kind of model.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stack: Option<StackSpec>,
     /// Pass/fail thresholds of `qualify` (defaults documented in `spec::qualify`).
@@ -59,22 +63,24 @@ pub struct SceneFile {
     /// Measured logs to post-process and gate.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub test_log: Vec<TestLogSpec>,
-    /// The in-orbit release (issue 6): springs, schedule, contact; geometry from `[stack]`.
+    /// The in-orbit release: springs, schedule, contact; the geometry comes from `[stack]` so
+    /// that the release and the FE model describe the same hardware.
     #[serde(default)]
     pub separation: Option<separation::SeparationSpec>,
-    /// Modal damping of the response analyses (issue 4).
+    /// Modal damping of the sine and random analyses; absent, Q = 10 ([`analysis::DEFAULT_Q`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<analysis::DampingSpec>,
-    /// Sine-sweep base excitation (issue 4).
+    /// Sine-sweep base excitation; present, `qualify` runs the sine analysis.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sine: Option<analysis::SineSpec>,
-    /// Random base excitation (issue 4).
+    /// Random base excitation; present, `qualify` runs the random analysis.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub random: Option<analysis::RandomSpec>,
-    /// Named response points (issue 4).
+    /// Named response points, added to the satellite CGs a `[stack]` gets by default.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub response: Vec<analysis::ResponsePoint>,
-    /// Lock-integrity margin factors (issue 4); defaults in `analysis::MarginsSpec`.
+    /// Lock-integrity margin factors; every default and its source is in
+    /// `analysis::MarginsSpec`, so that no factor of safety is written down twice.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub margins: Option<analysis::MarginsSpec>,
 }

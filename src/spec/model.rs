@@ -1,4 +1,4 @@
-//! The generic model of the scene contract (DESIGN.md §Scene files): materials, sections, nodes,
+//! The generic model of the scene contract (`docs/scene-format.md`): materials, sections, nodes,
 //! beams, masses, rigid links, springs, supports, static loads and the `[modal]` request, plus
 //! the checks that make a model well-posed before the FE layer sees it.
 
