@@ -172,8 +172,9 @@ pub struct MarginsSpec {
     pub ultimate_factor: f64,
     /// Add the joint's bending moment to the gapping load as M·A/Z of the column-tube face
     /// (the moment that lifts the face edge). Off by default: the gapping margin MS_sep =
-    /// P_min/(FF·FS_sep·P_ext) − 1 takes the joint's axial tension as P_ext, and the real contact face (flanges) is not in the scene, so the tube
-    /// section would overstate the edge lift.
+    /// P_min/(FF·FS_sep·P_ext) − 1 takes the joint's axial tension as P_ext, and the real
+    /// contact face (flanges) is not in the scene, so the tube section would overstate the
+    /// edge lift.
     pub include_face_moment: bool,
 }
 
