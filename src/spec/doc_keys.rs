@@ -233,7 +233,7 @@ impl<'de> MapAccess<'de> for Fields {
         let Some(name) = self.fields.get(self.next) else {
             return Ok(None);
         };
-        seed.deserialize(de::value::StrDeserializer::<WalkError>::new(*name))
+        seed.deserialize(de::value::StrDeserializer::<WalkError>::new(name))
             .map(Some)
     }
     fn next_value_seed<V: DeserializeSeed<'de>>(&mut self, seed: V) -> Result<V::Value, WalkError> {
