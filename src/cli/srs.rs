@@ -153,7 +153,7 @@ fn summary(res: &LogSrs) -> Vec<String> {
                 _ => Some(p),
             });
         lines.push(format!(
-            "  {:<20} peak {:.6} {} at {:.6e} s; SRS max {} ",
+            "  {:<20} peak {:.6} {} at {:.6e} s; SRS max {}",
             c.name,
             c.peak,
             c.unit,
