@@ -21,6 +21,7 @@ mod random;
 mod separate;
 mod signature;
 mod sine;
+mod srs;
 mod sweep;
 
 #[derive(Parser, Debug)]
@@ -56,6 +57,8 @@ pub enum Command {
     Signature(signature::Args),
     /// Sine-sweep tracking: response per unit drive against drive frequency, fn and Q.
     Sweep(sweep::Args),
+    /// Shock response spectrum of a shock record, checked against a specification.
+    Srs(srs::Args),
     /// Work-precision tables: run time against error, written to reports/bench/.
     Bench(bench::Args),
 }
@@ -80,6 +83,7 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Frf(a) => frf::run(a),
         Command::Signature(a) => signature::run(a),
         Command::Sweep(a) => sweep::run(a),
+        Command::Srs(a) => srs::run(a),
     }
 }
 

@@ -18,6 +18,7 @@ pub mod ingest;
 pub mod logpsd;
 pub mod peaks;
 pub mod signature;
+pub mod srs;
 pub mod sweep;
 pub mod uff;
 pub mod welch;
@@ -31,6 +32,7 @@ pub use ingest::{IngestOptions, Log, LogInfo, Unit, read_csv, stream_csv};
 pub use logpsd::{ChannelPsd, LogPsd, PsdSource, psd_of_file};
 pub use peaks::{Peak, PeakOptions, find_peaks};
 pub use signature::{ModeComparison, SignatureCriteria, SignatureReport, compare_signatures};
+pub use srs::{ChannelSrs, LogSrs, Offset, SrsOptions, SrsPoint, srs_of_file};
 pub use sweep::{SweepOptions, SweepTrack, sweep_resonance, track_sweep};
 pub use uff::{UffRecord, read_uff58};
 pub use welch::{

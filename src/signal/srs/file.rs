@@ -1,0 +1,195 @@
+//! A log file to shock response spectra: reads the selected channels (CSV through
+//! [`crate::signal::ingest::read_csv`], or UFF58 time histories), removes each channel's offset,
+//! finds its peak and computes its spectrum. The `srs` command's analysis.
+
+use super::{Offset, SrsOptions, SrsPoint, natural_frequencies, peak, pre_shock_mean, srs};
+use crate::error::SignalError;
+use crate::signal::ingest::{IngestOptions, Unit, read_csv};
+use crate::signal::uff::{looks_like_uff, read_uff58};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The spectrum of one channel.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChannelSrs {
+    pub name: String,
+    /// Unit of the record and of the spectrum ("g" for accelerations, else "as-is").
+    pub unit: String,
+    /// Unit of the pseudo-velocity: "m/s" for a record in g, else "as-is*s".
+    pub pv_unit: String,
+    /// The offset subtracted before the spectrum (0 with `Offset::None`).
+    pub offset_removed: f64,
+    /// Largest |acceleration| after offset removal, and its time from the first sample.
+    pub peak: f64,
+    pub peak_time_s: f64,
+    pub samples: usize,
+    pub srs: Vec<SrsPoint>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LogSrs {
+    pub file: PathBuf,
+    pub fs_hz: f64,
+    pub options: SrsOptions,
+    /// Zero samples appended for the residual spectrum (one damped period of fmin).
+    pub residual_samples: usize,
+    pub channels: Vec<ChannelSrs>,
+}
+
+/// Reads `path` and computes the spectrum of every selected channel.
+pub fn srs_of_file(
+    path: &Path,
+    ingest: &IngestOptions,
+    opts: &SrsOptions,
+) -> Result<LogSrs, SignalError> {
+    opts.validate()?;
+    let (fs_hz, records) = read_records(path, ingest)?;
+    let freqs = natural_frequencies(opts.fmin_hz, opts.fmax_hz, opts.per_octave);
+    let channels = records
+        .into_iter()
+        .map(|(name, unit, x)| channel_srs(path, name, unit, x, fs_hz, &freqs, opts))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(LogSrs {
+        file: path.to_path_buf(),
+        fs_hz,
+        options: *opts,
+        residual_samples: super::residual_samples(opts.fmin_hz, opts.q, 1.0 / fs_hz),
+        channels,
+    })
+}
+
+fn channel_srs(
+    path: &Path,
+    name: String,
+    unit: Unit,
+    mut x: Vec<f64>,
+    fs_hz: f64,
+    freqs: &[f64],
+    opts: &SrsOptions,
+) -> Result<ChannelSrs, SignalError> {
+    let in_channel = |message: String| SignalError::Channel {
+        channel: format!("{name} of {}", path.display()),
+        message,
+    };
+    let offset = match opts.offset {
+        Offset::None => 0.0,
+        Offset::Mean => x.iter().sum::<f64>() / x.len().max(1) as f64,
+        Offset::PreShock => pre_shock_mean(&x, fs_hz).map_err(in_channel)?,
+    };
+    x.iter_mut().for_each(|v| *v -= offset);
+    let mut points = srs(&x, fs_hz, freqs, opts.q).map_err(|e| in_channel(e.to_string()))?;
+    // A record in g gives ω·z in g·s: report it in m/s, the unit shock severity is judged in.
+    let (pv_unit, pv_factor) = match unit.reported() {
+        "g" => ("m/s", crate::units::G),
+        _ => ("as-is*s", 1.0),
+    };
+    points
+        .iter_mut()
+        .for_each(|p| p.pseudo_velocity *= pv_factor);
+    let (pk, i) = peak(&x);
+    Ok(ChannelSrs {
+        name,
+        unit: unit.reported().to_string(),
+        pv_unit: pv_unit.to_string(),
+        offset_removed: offset,
+        peak: pk,
+        peak_time_s: i as f64 / fs_hz,
+        samples: x.len(),
+        srs: points,
+    })
+}
+
+type Records = Vec<(String, Unit, Vec<f64>)>;
+
+/// The selected channels of a CSV log or a UFF58 file, in the reported unit, and the rate.
+fn read_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records), SignalError> {
+    if looks_like_uff(path) {
+        return read_uff_records(path, ingest);
+    }
+    let log = read_csv(path, ingest)?;
+    let records = log
+        .info
+        .channels
+        .iter()
+        .zip(log.data)
+        .map(|(c, x)| (c.name.clone(), c.unit, x))
+        .collect();
+    Ok((log.info.fs_hz, records))
+}
+
+fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records), SignalError> {
+    let records = read_uff58(path)?;
+    let mut out = Vec::new();
+    let mut fs = None;
+    for (i, r) in records.iter().enumerate() {
+        let name = if r.id4.is_empty() {
+            format!("record {}", i + 1)
+        } else {
+            r.id4.clone()
+        };
+        if ingest.channels.as_ref().is_some_and(|l| !l.contains(&name)) {
+            continue;
+        }
+        let uff_err = |message: String| SignalError::Uff {
+            file: path.to_path_buf(),
+            line: r.line,
+            message,
+        };
+        if r.function_type != 1 || r.is_complex() {
+            return Err(uff_err(format!(
+                "record `{name}` is function type {}, not a real time history (1): no shock spectrum of it",
+                r.function_type
+            )));
+        }
+        let step = r
+            .uniform_step()
+            .ok_or_else(|| uff_err("the abscissa is not evenly spaced".into()))?;
+        fs = Some(1.0 / step);
+        let unit = uff_unit(&r.ordinate_label, ingest, &name);
+        let k = unit.to_report_factor();
+        out.push((name, unit, r.re.iter().map(|v| v * k).collect()));
+    }
+    check_uff_selection(path, ingest, &out, &records)?;
+    let fs = fs.ok_or_else(|| SignalError::HeaderOnly {
+        file: path.to_path_buf(),
+    })?;
+    Ok((fs, out))
+}
+
+/// Every channel asked for must have been found.
+fn check_uff_selection(
+    path: &Path,
+    ingest: &IngestOptions,
+    found: &Records,
+    records: &[crate::signal::uff::UffRecord],
+) -> Result<(), SignalError> {
+    let Some(list) = &ingest.channels else {
+        return Ok(());
+    };
+    match list.iter().find(|n| !found.iter().any(|(m, _, _)| m == *n)) {
+        Some(missing) => Err(SignalError::NoSuchChannel {
+            file: path.to_path_buf(),
+            name: missing.clone(),
+            available: records
+                .iter()
+                .map(|r| r.id4.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        }),
+        None => Ok(()),
+    }
+}
+
+fn uff_unit(label: &str, ingest: &IngestOptions, name: &str) -> Unit {
+    if let Some((_, u)) = ingest.channel_units.iter().find(|(n, _)| n == name) {
+        return *u;
+    }
+    let l = label.to_ascii_lowercase();
+    if l.starts_with("m/s") {
+        Unit::MPerS2
+    } else if l.starts_with('g') {
+        Unit::G
+    } else {
+        ingest.default_unit.unwrap_or(Unit::AsIs)
+    }
+}
