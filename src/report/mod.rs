@@ -1,9 +1,21 @@
 //! Report writing: JSON, Markdown, HTML with inline SVG plots, CSV curves. Every file is
 //! written to a temporary name beside its target and renamed, so a reader never sees half a file.
 
+mod build;
+pub mod document;
+mod figures;
 pub mod plot;
 pub mod qualify;
+pub mod render_html;
+pub mod render_md;
 pub mod svg_plot;
+
+/// The results of a qualification, which the report presents. Imported here only, and used
+/// through this re-export everywhere in `report`, so the results can move without the report
+/// following them file by file.
+pub(crate) use crate::pipeline::{
+    ModalSummary, Qualification, SeparationSummary, TestDataSummary, TestLogResult,
+};
 
 use crate::error::Error;
 use std::path::Path;

@@ -40,41 +40,98 @@ fn esc(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
+/// The plotted window in axis units (log10 of the value on a log axis) and its mapping to
+/// pixels.
+struct Frame {
+    log_x: bool,
+    log_y: bool,
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+}
+
+impl Frame {
+    /// The window that holds every plottable point of `series`.
+    fn fit(p: &Plot, series: &[Series]) -> Self {
+        let mut f = Frame {
+            log_x: p.log_x,
+            log_y: p.log_y,
+            x0: f64::MAX,
+            x1: f64::MIN,
+            y0: f64::MAX,
+            y1: f64::MIN,
+        };
+        for s in series {
+            for (&x, &y) in s.x.iter().zip(s.y) {
+                if f.plottable(x, y) {
+                    f.x0 = f.x0.min(f.tx(x));
+                    f.x1 = f.x1.max(f.tx(x));
+                    f.y0 = f.y0.min(f.ty(y));
+                    f.y1 = f.y1.max(f.ty(y));
+                }
+            }
+        }
+        f.settle();
+        f
+    }
+
+    /// A window for no points, whole decades on a log y axis, and never an empty span.
+    fn settle(&mut self) {
+        if self.x0 > self.x1 {
+            (self.x0, self.x1, self.y0, self.y1) = (0.0, 1.0, 0.0, 1.0);
+        }
+        if self.log_y {
+            // Six decades below the top are enough to read a PSD; deeper tails are clipped.
+            self.y1 = self.y1.ceil();
+            self.y0 = self.y0.floor().max(self.y1 - 6.0);
+        }
+        if self.x1 - self.x0 <= 0.0 {
+            self.x1 = self.x0 + 1.0;
+        }
+        if self.y1 - self.y0 <= 0.0 {
+            self.y1 = self.y0 + 1.0;
+        }
+    }
+
+    fn tx(&self, v: f64) -> f64 {
+        if self.log_x { v.log10() } else { v }
+    }
+
+    fn ty(&self, v: f64) -> f64 {
+        if self.log_y { v.log10() } else { v }
+    }
+
+    /// Finite, and positive on a log axis.
+    fn plottable(&self, x: f64, y: f64) -> bool {
+        x.is_finite() && y.is_finite() && (!self.log_x || x > 0.0) && (!self.log_y || y > 0.0)
+    }
+
+    fn px(&self, v: f64) -> f64 {
+        L + (self.tx(v) - self.x0) / (self.x1 - self.x0) * (W - L - R)
+    }
+
+    fn py(&self, v: f64) -> f64 {
+        H - B - (self.ty(v) - self.y0) / (self.y1 - self.y0) * (H - T - B)
+    }
+}
+
+/// Tick positions in axis units: decades on log axes, 5 divisions on linear ones.
+fn ticks(a: f64, b: f64, log: bool) -> Vec<f64> {
+    if log {
+        (a.floor() as i32..=b.ceil() as i32)
+            .map(|e| e as f64)
+            .filter(|&e| e >= a - 1e-9 && e <= b + 1e-9)
+            .collect()
+    } else {
+        (0..=5).map(|k| a + (b - a) * k as f64 / 5.0).collect()
+    }
+}
+
 /// Renders the series as an SVG document. Non-finite points, and non-positive ones on a log
 /// axis, are skipped.
 pub fn render(p: &Plot, series: &[Series]) -> String {
-    let tx = |v: f64| if p.log_x { v.log10() } else { v };
-    let ty = |v: f64| if p.log_y { v.log10() } else { v };
-    let ok = |x: f64, y: f64| {
-        x.is_finite() && y.is_finite() && (!p.log_x || x > 0.0) && (!p.log_y || y > 0.0)
-    };
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for s in series {
-        for (&x, &y) in s.x.iter().zip(s.y) {
-            if ok(x, y) {
-                x0 = x0.min(tx(x));
-                x1 = x1.max(tx(x));
-                y0 = y0.min(ty(y));
-                y1 = y1.max(ty(y));
-            }
-        }
-    }
-    if x0 > x1 {
-        (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
-    }
-    if p.log_y {
-        // Six decades below the top are enough to read a PSD; deeper tails are clipped.
-        y1 = y1.ceil();
-        y0 = y0.floor().max(y1 - 6.0);
-    }
-    if x1 - x0 <= 0.0 {
-        x1 = x0 + 1.0;
-    }
-    if y1 - y0 <= 0.0 {
-        y1 = y0 + 1.0;
-    }
-    let px = |v: f64| L + (tx(v) - x0) / (x1 - x0) * (W - L - R);
-    let py = |v: f64| H - B - (ty(v) - y0) / (y1 - y0) * (H - T - B);
+    let f = Frame::fit(p, series);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -87,20 +144,20 @@ pub fn render(p: &Plot, series: &[Series]) -> String {
         (L + W - R) / 2.0,
         esc(p.title)
     );
-    // Ticks: decades on log axes, 5 divisions on linear ones.
-    let ticks = |a: f64, b: f64, log: bool| -> Vec<f64> {
-        if log {
-            (a.floor() as i32..=b.ceil() as i32)
-                .map(|e| e as f64)
-                .filter(|&e| e >= a - 1e-9 && e <= b + 1e-9)
-                .collect()
-        } else {
-            (0..=5).map(|k| a + (b - a) * k as f64 / 5.0).collect()
-        }
-    };
-    for t in ticks(x0, x1, p.log_x) {
-        let v = if p.log_x { 10f64.powf(t) } else { t };
-        let x = px(v);
+    grid(&mut s, &f);
+    axes(&mut s, p);
+    for (i, se) in series.iter().enumerate() {
+        line(&mut s, &f, i, se);
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// Grid lines with their tick labels.
+fn grid(s: &mut String, f: &Frame) {
+    for t in ticks(f.x0, f.x1, f.log_x) {
+        let v = if f.log_x { 10f64.powf(t) } else { t };
+        let x = f.px(v);
         let _ = writeln!(
             s,
             r##"<line x1="{x:.1}" y1="{T}" x2="{x:.1}" y2="{:.1}" stroke="#ddd"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"##,
@@ -109,9 +166,9 @@ pub fn render(p: &Plot, series: &[Series]) -> String {
             fmt_tick(v)
         );
     }
-    for t in ticks(y0, y1, p.log_y) {
-        let v = if p.log_y { 10f64.powf(t) } else { t };
-        let y = py(v);
+    for t in ticks(f.y0, f.y1, f.log_y) {
+        let v = if f.log_y { 10f64.powf(t) } else { t };
+        let y = f.py(v);
         let _ = writeln!(
             s,
             r##"<line x1="{L}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#ddd"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"##,
@@ -121,6 +178,10 @@ pub fn render(p: &Plot, series: &[Series]) -> String {
             fmt_tick(v)
         );
     }
+}
+
+/// The plot-area border and the axis labels.
+fn axes(s: &mut String, p: &Plot) {
     let _ = writeln!(
         s,
         r##"<rect x="{L}" y="{T}" width="{}" height="{}" fill="none" stroke="#000"/>"##,
@@ -141,38 +202,38 @@ pub fn render(p: &Plot, series: &[Series]) -> String {
         (T + H - B) / 2.0,
         esc(p.y_label)
     );
-    for (i, se) in series.iter().enumerate() {
-        let c = COLORS[i % COLORS.len()];
-        let mut pts = String::new();
-        for (&x, &y) in se.x.iter().zip(se.y) {
-            if ok(x, y) {
-                let yy = py(y).clamp(T, H - B);
-                let _ = write!(pts, "{:.1},{:.1} ", px(x), yy);
-            }
+}
+
+/// Series `i` as a polyline clipped to the plot area, and its legend entry.
+fn line(s: &mut String, f: &Frame, i: usize, se: &Series) {
+    let c = COLORS[i % COLORS.len()];
+    let mut pts = String::new();
+    for (&x, &y) in se.x.iter().zip(se.y) {
+        if f.plottable(x, y) {
+            let yy = f.py(y).clamp(T, H - B);
+            let _ = write!(pts, "{:.1},{:.1} ", f.px(x), yy);
         }
-        let dash = if se.dashed {
-            r#" stroke-dasharray="6,4""#
-        } else {
-            ""
-        };
-        let _ = writeln!(
-            s,
-            r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="1.5"{dash}/>"#,
-            pts.trim_end()
-        );
-        let ly = T + 10.0 + 18.0 * i as f64;
-        let _ = writeln!(
-            s,
-            r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{c}" stroke-width="2"{dash}/><text x="{:.1}" y="{:.1}">{}</text>"#,
-            W - R + 10.0,
-            W - R + 35.0,
-            W - R + 40.0,
-            ly + 4.0,
-            esc(se.name)
-        );
     }
-    s.push_str("</svg>\n");
-    s
+    let dash = if se.dashed {
+        r#" stroke-dasharray="6,4""#
+    } else {
+        ""
+    };
+    let _ = writeln!(
+        s,
+        r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="1.5"{dash}/>"#,
+        pts.trim_end()
+    );
+    let ly = T + 10.0 + 18.0 * i as f64;
+    let _ = writeln!(
+        s,
+        r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{c}" stroke-width="2"{dash}/><text x="{:.1}" y="{:.1}">{}</text>"#,
+        W - R + 10.0,
+        W - R + 35.0,
+        W - R + 40.0,
+        ly + 4.0,
+        esc(se.name)
+    );
 }
 
 fn fmt_tick(v: f64) -> String {

@@ -1,0 +1,100 @@
+//! The measured logs: an FRF log as |H1| and coherence, any other as its PSDs against the
+//! reference profile and tolerance bands.
+
+use super::{Files, csv};
+use crate::error::Error;
+use crate::report::document::Figure;
+use crate::report::plot::{Scale, Series, lines_svg};
+use crate::report::{TestDataSummary, TestLogResult};
+
+/// The curve an FRF log carries beside its |H1|; its presence marks the log as an FRF.
+const COHERENCE: &str = "coherence";
+
+pub fn figures(td: &TestDataSummary, files: &mut Files) -> Result<Vec<Figure>, Error> {
+    let mut figs = Vec::new();
+    for (k, log) in td.logs.iter().enumerate() {
+        let stem = format!("test_{}", k + 1);
+        push_curves(&stem, log, files);
+        if log.curves.iter().any(|(l, _)| l == COHERENCE) {
+            figs.push(frf(&stem, log)?);
+            figs.push(coherence(&stem, log)?);
+        } else {
+            figs.push(psd(&stem, log)?);
+        }
+    }
+    Ok(figs)
+}
+
+/// One CSV per curve, named after the curve with anything but letters and digits as `_`.
+fn push_curves(stem: &str, log: &TestLogResult, files: &mut Files) {
+    for (label, pts) in &log.curves {
+        let safe: String = label
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+            .collect();
+        files.push((
+            format!("curves/{stem}_{safe}.csv"),
+            csv("frequency_hz,value", pts.iter().map(|p| vec![p.0, p.1])),
+        ));
+    }
+}
+
+/// The log's curves whose label passes `keep`, as plot series.
+fn series(log: &TestLogResult, keep: impl Fn(&str) -> bool) -> Vec<Series<'_>> {
+    log.curves
+        .iter()
+        .filter(|(l, _)| keep(l))
+        .map(|(l, p)| Series {
+            label: l.clone(),
+            points: p,
+        })
+        .collect()
+}
+
+fn frf(stem: &str, log: &TestLogResult) -> Result<Figure, Error> {
+    Ok(Figure {
+        stem: format!("{stem}_frf"),
+        caption: format!("{}: |H1| with its resonances ({})", log.name, log.file),
+        svg: lines_svg(
+            &format!("{}: FRF", log.name),
+            "frequency [Hz]",
+            "|H1|",
+            &series(log, |l| l != COHERENCE),
+            Scale::Log,
+            Scale::Log,
+        )?,
+    })
+}
+
+fn coherence(stem: &str, log: &TestLogResult) -> Result<Figure, Error> {
+    Ok(Figure {
+        stem: format!("{stem}_coherence"),
+        caption: format!("{}: coherence", log.name),
+        svg: lines_svg(
+            &format!("{}: coherence", log.name),
+            "frequency [Hz]",
+            "γ²",
+            &series(log, |l| l == COHERENCE),
+            Scale::Log,
+            Scale::Linear,
+        )?,
+    })
+}
+
+fn psd(stem: &str, log: &TestLogResult) -> Result<Figure, Error> {
+    Ok(Figure {
+        stem: format!("{stem}_psd"),
+        caption: format!(
+            "{}: measured PSD against the reference profile and its tolerance bands ({})",
+            log.name, log.file
+        ),
+        svg: lines_svg(
+            &format!("{}: PSD", log.name),
+            "frequency [Hz]",
+            "PSD [g²/Hz]",
+            &series(log, |_| true),
+            Scale::Log,
+            Scale::Log,
+        )?,
+    })
+}
