@@ -1,12 +1,12 @@
 //! The qualification report an engineer signs: `report.html` (self-contained, inline SVG, no
 //! network, printable), `report.md` with the plots as SVG files beside it, `results.json`
 //! (every number, no timestamps) and `curves/*.csv` (the data behind every plot).
-//! Input: a `pipeline::Qualification`. The whole folder is built under a temporary name and
+//! Input: a `results::Qualification`. The whole folder is built under a temporary name and
 //! swapped in only when complete, so an existing report is never left half-replaced.
 
 use super::plot::{Marker, Scale, Series, lines_markers_svg, lines_svg};
 use crate::error::Error;
-use crate::pipeline::Qualification;
+use crate::results::Qualification;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
