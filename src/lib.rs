@@ -5,16 +5,19 @@
 //! Aerospace 2022): predict the shaker-test response with a finite-element model, post-process
 //! the accelerometer logs of the test, gate the hardware, and simulate the in-orbit release.
 //!
-//! Data flow (a module imports only modules to its left, plus `units` and `error`):
+//! Data flow (a module imports only modules to its left, plus `units`, `error` and
+//! `gates::verdict`, the leaf that gives every criterion's outcome its shape):
 //!
 //! ```text
 //! spec ──> fem ──> modal ──> response ──┐
-//!   │                                   ├──> gates ──> report
+//!   │                                   ├──> gates ──> results ──> report
 //!   │      signal ──────────────────────┤
 //!   └────> separation ──────────────────┘
 //! ```
 //!
-//! Only [`pipeline`] knows the whole order. Analyses never do I/O; the binary prints and exits.
+//! Only [`pipeline`] knows the whole order: it resolves a scene into a plan, runs one workflow
+//! per analysis and fills the [`results`] the report renders. Analyses never do I/O; the
+//! binary prints and exits.
 
 pub mod error;
 pub mod fem;
@@ -23,6 +26,7 @@ pub mod modal;
 pub mod pipeline;
 pub mod report;
 pub mod response;
+pub mod results;
 pub mod separation;
 pub mod signal;
 pub mod spec;

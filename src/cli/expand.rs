@@ -1,19 +1,41 @@
 //! `satqual expand`: writes a `[stack]` scene out as the generic model (TOML), so an engineer
 //! can inspect or hand-edit every node, beam and joint the stack expands into.
 
-use super::Outcome;
+use super::{Outcome, Printer};
 use satqual::Error;
 use std::io::Write;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
+#[command(
+    after_help = "With --json, stdout holds one JSON document instead of the TOML: {\"scene\": <scene file>, \"satqual_version\": <version>, \"model\": <the expanded model as data, the same keys as the TOML>}."
+)]
 pub struct Args {
     /// Scene file (TOML).
     pub scene: PathBuf,
+    /// Print the expanded model as a JSON document (scene, satqual_version, model) instead of
+    /// the TOML.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Output<'a> {
+    scene: String,
+    satqual_version: &'static str,
+    model: &'a satqual::spec::SceneFile,
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let scene = satqual::spec::Scene::load(&args.scene)?;
+    if args.json {
+        Printer::new(true).json(&Output {
+            scene: args.scene.display().to_string(),
+            satqual_version: env!("CARGO_PKG_VERSION"),
+            model: &scene.model,
+        })?;
+        return Ok(Outcome::Pass);
+    }
     let body = toml::to_string(&scene.model)
         .map_err(|e| Error::Other(format!("cannot write the expanded model: {e}")))?;
     let header = format!(

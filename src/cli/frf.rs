@@ -5,10 +5,11 @@
 use super::psd::{parse_units, welch_options};
 use super::{Outcome, Printer};
 use satqual::Error;
+use satqual::pipeline::workflows::{self, frf::FrfRequest};
 use satqual::report::plot::{Scale, Series, lines_svg};
 use satqual::report::write_atomic;
 use satqual::signal::ingest::IngestOptions;
-use satqual::signal::{Frf, PeakOptions, Resonance, frf_of_files, resonances};
+use satqual::signal::{Frf, PeakOptions, Resonance};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -54,38 +55,6 @@ pub struct Args {
     pub json: bool,
 }
 
-pub struct FrfRun {
-    pub frf: Frf,
-    pub resonances: Vec<Resonance>,
-}
-
-/// Shared by `frf` and `signature`.
-#[allow(clippy::too_many_arguments)]
-pub fn compute(
-    logs: &[PathBuf],
-    input: &str,
-    output: &str,
-    fs: Option<f64>,
-    units: Option<&str>,
-    resample: bool,
-    wopts: &satqual::signal::WelchOptions,
-    peaks: &PeakOptions,
-) -> Result<FrfRun, Error> {
-    let mut ingest = IngestOptions {
-        fs,
-        resample,
-        ..Default::default()
-    };
-    parse_units(units, &mut ingest)?;
-    let frf = frf_of_files(logs, input, output, &ingest, wopts)?;
-    let f = frf.frequencies();
-    let res = resonances(&f, &frf.h1(), &frf.coherence(), peaks);
-    Ok(FrfRun {
-        frf,
-        resonances: res,
-    })
-}
-
 pub fn peak_json(r: &Resonance) -> serde_json::Value {
     json!({"frequency_hz": r.frequency_hz, "magnitude": r.magnitude, "q": r.q, "coherence": r.coherence, "phase_deg": r.phase_deg, "prominence_db": r.prominence_db})
 }
@@ -100,16 +69,21 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         f_max_hz: args.fmax.unwrap_or(f64::INFINITY),
         db_per_decade: 20.0,
     };
-    let run = compute(
-        &args.logs,
-        &args.input,
-        &args.output,
-        args.fs,
-        args.units.as_deref(),
-        args.resample,
-        &wopts,
-        &peaks,
-    )?;
+    let mut ingest = IngestOptions {
+        fs: args.fs,
+        resample: args.resample,
+        ..Default::default()
+    };
+    parse_units(args.units.as_deref(), &mut ingest)?;
+    let run = workflows::frf::run(&FrfRequest {
+        logs: &args.logs,
+        input: &args.input,
+        output: &args.output,
+        ingest,
+        welch: wopts.clone(),
+        peaks,
+        from_first_line: false,
+    })?;
     let h = &run.frf;
     let mut human = vec![format!(
         "{} log(s), fs {:.6} Hz, nperseg {}, {} segments averaged; H1 = {}/{}",

@@ -4,12 +4,15 @@
 
 use super::{Outcome, Printer};
 use satqual::Error;
+use satqual::pipeline::workflows::{
+    self,
+    psd::{PsdRequest, PsdRun, ToleranceCheck},
+};
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
 use satqual::signal::ingest::{IngestOptions, Unit};
 use satqual::signal::{
-    Detrend, PeakOptions, PsdSource, ToleranceSpec, WelchOptions, Window, find_peaks, octave_bands,
-    psd_of_file, read_profile, tolerance_bands,
+    Detrend, PsdSource, ToleranceSpec, WelchOptions, Window, octave_bands, read_profile,
 };
 use serde_json::json;
 use std::path::PathBuf;
@@ -112,53 +115,46 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     };
     parse_units(args.units.as_deref(), &mut ingest)?;
     let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
-    let res = psd_of_file(&args.log, &ingest, &wopts)?;
-    let spec = ToleranceSpec {
-        alarm_db: args.alarm_db,
-        abort_db: args.abort_db,
-        grms_pct: args.grms_pct,
-    };
     let tolerance = match &args.profile {
-        Some(path) => {
-            let profile = read_profile(path)?;
-            let ch = match &args.control {
-                Some(name) => res
-                    .channels
-                    .iter()
-                    .find(|c| &c.name == name)
-                    .ok_or_else(|| {
-                        Error::Other(format!(
-                            "--control `{name}`: no such channel (available: {})",
-                            res.channels
-                                .iter()
-                                .map(|c| c.name.as_str())
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        ))
-                    })?,
-                None => res
-                    .channels
-                    .first()
-                    .ok_or_else(|| Error::Other("no channel".into()))?,
-            };
-            Some((
-                ch.name.clone(),
-                tolerance_bands(&ch.psd.frequencies(), &ch.psd.values, &profile, &spec)?,
-            ))
-        }
+        Some(path) => Some(ToleranceCheck {
+            control: args.control.clone(),
+            profile: read_profile(path)?,
+            spec: ToleranceSpec {
+                alarm_db: args.alarm_db,
+                abort_db: args.abort_db,
+                grms_pct: args.grms_pct,
+            },
+        }),
         None => None,
     };
-    let first = res
-        .channels
-        .first()
-        .ok_or_else(|| Error::Other("no channel".into()))?;
-    let df = first.psd.df;
-    let peak_opts = PeakOptions {
-        max_peaks: args.peaks,
-        f_min_hz: df,
-        ..Default::default()
-    };
-    let mut channels_json = Vec::new();
+    let run = workflows::psd::run(&PsdRequest {
+        log: &args.log,
+        ingest,
+        welch: wopts.clone(),
+        peaks: Some(args.peaks),
+        tolerance,
+    })?;
+    let mut human = summary(&args, &run, &wopts);
+    let pass = run.tolerance.as_ref().is_none_or(|(_, t)| t.pass);
+    if let Some(dir) = &args.out {
+        write_outputs(dir, &run.psd)?;
+        human.push(format!(
+            "  wrote {}/psd.csv, third_octave.csv, psd.svg",
+            dir.display()
+        ));
+    }
+    p.human(&human.join("\n"));
+    p.json(&document(&args, &run, &wopts, pass))?;
+    Ok(if pass {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
+}
+
+/// The human summary: the log, one line per channel, resampling and tolerance.
+fn summary(args: &Args, run: &PsdRun, wopts: &WelchOptions) -> Vec<String> {
+    let (res, first) = (&run.psd, run.first());
     let mut human = vec![format!(
         "{}: {} channel(s), fs {:.6} Hz, {}",
         args.log.display(),
@@ -169,15 +165,13 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             _ => format!(
                 "Welch nperseg {} ({} Hz lines), {} window, {} segments",
                 wopts.nperseg,
-                df,
+                first.psd.df,
                 wopts.window.name(),
                 first.psd.segments
             ),
         }
     )];
-    for c in &res.channels {
-        let f = c.psd.frequencies();
-        let peaks = find_peaks(&f, &c.psd.values, &peak_opts);
+    for (c, peaks) in res.channels.iter().zip(&run.peaks) {
         human.push(format!(
             "  {:<20} Grms {:.6} {}  RMS {}  peaks: {}",
             c.name,
@@ -190,23 +184,14 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
                 .collect::<Vec<_>>()
                 .join(", ")
         ));
-        channels_json.push(json!({
-            "name": c.name,
-            "unit": c.unit,
-            "grms": c.grms,
-            "rms": c.rms,
-            "samples": c.samples,
-            "peaks": peaks.iter().map(|p| json!({"frequency_hz": p.frequency_hz, "value": p.value, "prominence_db": p.prominence_db})).collect::<Vec<_>>(),
-        }));
     }
-    let info = res.info.as_ref();
-    if let Some(r) = info.and_then(|i| i.resampled.as_ref()) {
+    if let Some(r) = res.info.as_ref().and_then(|i| i.resampled.as_ref()) {
         human.push(format!(
             "  resampled: {} irregular step(s) from line {} (largest {:.6e} s) -> uniform dt {:.6e} s, {} samples from {} rows",
             r.irregular_rows, r.first_irregular_line, r.largest_step_s, r.uniform_dt_s, r.output_samples, r.input_rows
         ));
     }
-    if let Some((name, t)) = &tolerance {
+    if let Some((name, t)) = &run.tolerance {
         human.push(format!(
             "  tolerance ({name}): {:?}; {:.2}% of {} lines outside ±{} dB, {:.2}% outside ±{} dB; worst {:+.2} dB at {:.1} Hz; Grms {:.4} vs {:.4} ({:+.2}%)",
             t.status,
@@ -222,36 +207,42 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             t.grms_error_pct
         ));
     }
-    let pass = tolerance.as_ref().is_none_or(|(_, t)| t.pass);
-    let out_json = json!({
+    human
+}
+
+/// The `--json` document.
+fn document(args: &Args, run: &PsdRun, wopts: &WelchOptions, pass: bool) -> serde_json::Value {
+    let (res, first) = (&run.psd, run.first());
+    let channels: Vec<_> = res
+        .channels
+        .iter()
+        .zip(&run.peaks)
+        .map(|(c, peaks)| json!({
+            "name": c.name,
+            "unit": c.unit,
+            "grms": c.grms,
+            "rms": c.rms,
+            "samples": c.samples,
+            "peaks": peaks.iter().map(|p| json!({"frequency_hz": p.frequency_hz, "value": p.value, "prominence_db": p.prominence_db})).collect::<Vec<_>>(),
+        }))
+        .collect();
+    let info = res.info.as_ref();
+    let welch = res.source != PsdSource::UffPsd;
+    json!({
         "file": args.log,
         "source": res.source,
         "fs_hz": res.fs_hz,
         "nperseg": first.psd.nperseg,
-        "overlap": if res.source == PsdSource::UffPsd { None } else { Some(wopts.overlap) },
-        "window": if res.source == PsdSource::UffPsd { None } else { Some(wopts.window.name()) },
-        "detrend": if res.source == PsdSource::UffPsd { None } else { Some(wopts.detrend.name()) },
-        "frequency_resolution_hz": df,
+        "overlap": welch.then_some(wopts.overlap),
+        "window": welch.then(|| wopts.window.name()),
+        "detrend": welch.then(|| wopts.detrend.name()),
+        "frequency_resolution_hz": first.psd.df,
         "segments": first.psd.segments,
         "time_column": info.and_then(|i| i.time_column.clone()),
         "resampled": info.and_then(|i| i.resampled.clone()),
-        "channels": channels_json,
-        "tolerance": tolerance.as_ref().map(|(n, t)| json!({"channel": n, "report": t})),
+        "channels": channels,
+        "tolerance": run.tolerance.as_ref().map(|(n, t)| json!({"channel": n, "report": t})),
         "pass": pass,
-    });
-    if let Some(dir) = &args.out {
-        write_outputs(dir, &res)?;
-        human.push(format!(
-            "  wrote {}/psd.csv, third_octave.csv, psd.svg",
-            dir.display()
-        ));
-    }
-    p.human(&human.join("\n"));
-    p.json(&out_json)?;
-    Ok(if pass {
-        Outcome::Pass
-    } else {
-        Outcome::GateFailed
     })
 }
 

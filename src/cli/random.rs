@@ -4,7 +4,8 @@
 
 use super::{Outcome, Printer};
 use satqual::Error;
-use satqual::response::{self, Prepared, RandomOptions};
+use satqual::pipeline::{plan, workflows};
+use satqual::response;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -34,30 +35,15 @@ struct Output<'a> {
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let scene = satqual::spec::Scene::load(&args.scene)?;
-    let spec = scene.file.random.clone().ok_or_else(|| {
-        Error::Other(format!(
-            "{}: the scene has no [random] section (add [random] with a profile)",
-            args.scene.display()
-        ))
-    })?;
-    let axes = super::sine::axes(&args.axis, &spec.axes)?;
-    let (model, sys) = satqual::pipeline::modal(&scene, None, None)?;
-    let prep = Prepared::new(&scene, &model, &sys)?;
-    let mut results = Vec::new();
-    for &a in &axes {
-        results.push(response::random::run(
-            &prep,
-            &spec,
-            a,
-            &RandomOptions::default(),
-        )?);
-    }
+    let plan = plan::random_command(&scene, args.axis.as_deref())?;
+    let run = workflows::response::random(&scene, &plan)?;
+    let results = &run.axes;
     let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
-    let damping = super::sine::damping_text(&prep.damping, scene.file.damping.is_some());
+    let damping = super::sine::damping_text(&run.damping, scene.file.damping.is_some());
     let p = Printer::new(args.json);
     let mut t = String::new();
     let _ = writeln!(t, "{}: random, damping {}", args.scene.display(), damping);
-    for r in &results {
+    for r in results {
         let _ = writeln!(
             t,
             "axis {}: input {:.2} Grms, {} modes + residual vector: {}, {} frequencies",
@@ -86,10 +72,10 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         scene: args.scene.display().to_string(),
         damping,
         pass,
-        axes: &results,
+        axes: results,
     })?;
     if let Some(dir) = &args.out {
-        for r in &results {
+        for r in results {
             let name = format!("random-{}", r.axis);
             satqual::report::write_atomic(
                 &dir.join(format!("{name}.csv")),
@@ -118,7 +104,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
         }
         let json =
-            serde_json::to_string_pretty(&results).map_err(|e| Error::Other(e.to_string()))?;
+            serde_json::to_string_pretty(results).map_err(|e| Error::Other(e.to_string()))?;
         satqual::report::write_atomic(&dir.join("random.json"), json.as_bytes())?;
         p.human(&format!("curves and plots written to {}", dir.display()));
     }

@@ -3,8 +3,11 @@
 
 use super::{Outcome, Printer};
 use satqual::Error;
+use satqual::pipeline::Silent;
+use satqual::pipeline::plan::MonteCarloPlan;
+use satqual::pipeline::workflows::{self, separate::SeparateRequest, separate::SeparateRun};
 use satqual::report::write_atomic;
-use satqual::separation::{self, Model, RunOptions, SeparationResult};
+use satqual::separation::{self, SeparationResult};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -39,15 +42,18 @@ struct Output<'a> {
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
     let scene = satqual::spec::Scene::load(&args.scene)?;
-    let model = Model::from_scene(&scene)?;
-    let opts = RunOptions {
+    let req = SeparateRequest {
         record_history: args.out.is_some(),
+        monte_carlo: args.monte_carlo.map(|runs| MonteCarloPlan {
+            runs,
+            seed: args.seed.unwrap_or(0),
+        }),
     };
-    let result = separation::run(&model, &opts)?;
-    let mc = match args.monte_carlo {
-        Some(n) => Some(separation::monte_carlo(&model, n, args.seed.unwrap_or(0))?),
-        None => None,
-    };
+    let SeparateRun {
+        result,
+        monte_carlo: mc,
+        ..
+    } = workflows::separate::run(&scene, &req, &Silent)?;
     if let (Some(dir), Some(h)) = (&args.out, &result.history) {
         write_histories(dir, h)?;
     }

@@ -2,11 +2,12 @@
 //! signature, matched mode by mode; fails (exit 1) when a mode shifts more than
 //! `--max-shift-pct` or changes amplitude more than `--max-amp-change-pct`, naming the mode.
 
-use super::frf::compute;
-use super::psd::welch_options;
+use super::psd::{parse_units, welch_options};
 use super::{Outcome, Printer};
 use satqual::Error;
-use satqual::signal::{PeakOptions, SignatureCriteria, compare_signatures};
+use satqual::pipeline::workflows::{self, signature::SignatureRequest};
+use satqual::signal::ingest::IngestOptions;
+use satqual::signal::{PeakOptions, SignatureCriteria};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -62,38 +63,26 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         f_max_hz: args.fmax.unwrap_or(f64::INFINITY),
         db_per_decade: 20.0,
     };
-    let u = args.units.as_deref();
-    let before = compute(
-        std::slice::from_ref(&args.before),
-        &args.input,
-        &args.output,
-        args.fs,
-        u,
-        false,
-        &wopts,
-        &peaks,
-    )?;
-    // After the test, look for more peaks than modes so a weakened mode is still found.
-    let after_peaks = PeakOptions {
-        max_peaks: args.modes * 2,
-        ..peaks.clone()
+    let mut ingest = IngestOptions {
+        fs: args.fs,
+        ..Default::default()
     };
-    let after = compute(
-        std::slice::from_ref(&args.after),
-        &args.input,
-        &args.output,
-        args.fs,
-        u,
-        false,
-        &wopts,
-        &after_peaks,
-    )?;
-    let crit = SignatureCriteria {
-        max_shift_pct: args.max_shift_pct,
-        max_amp_change_pct: args.max_amp_change_pct,
-        match_window_pct: args.match_window_pct,
-    };
-    let rep = compare_signatures(&before.resonances, &after.resonances, &crit);
+    parse_units(args.units.as_deref(), &mut ingest)?;
+    let run = workflows::signature::run(&SignatureRequest {
+        before: &args.before,
+        after: &args.after,
+        input: &args.input,
+        output: &args.output,
+        ingest,
+        welch: wopts,
+        peaks,
+        criteria: SignatureCriteria {
+            max_shift_pct: args.max_shift_pct,
+            max_amp_change_pct: args.max_amp_change_pct,
+            match_window_pct: args.match_window_pct,
+        },
+    })?;
+    let (before, after, rep) = (&run.before, &run.after, &run.report);
     let mut human = vec![format!(
         "signature {} -> {}: {} mode(s), {}",
         args.before.display(),

@@ -3,10 +3,12 @@
 
 use super::{Outcome, Printer};
 use satqual::Error;
-use satqual::response::{self, Prepared, SineOptions};
+use satqual::gates::Verdict;
+use satqual::pipeline::{plan, workflows};
+use satqual::response;
 use serde::Serialize;
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -31,21 +33,6 @@ struct Output<'a> {
     axes: &'a [response::SineAxis],
 }
 
-/// Axes to run: `--axis` or the scene's list.
-pub fn axes(cli: &Option<String>, scene: &[String]) -> Result<Vec<usize>, Error> {
-    let names: Vec<String> = match cli {
-        Some(a) => vec![a.clone()],
-        None => scene.to_vec(),
-    };
-    names
-        .iter()
-        .map(|a| {
-            satqual::spec::analysis::axis_index(a)
-                .ok_or_else(|| Error::Other(format!("--axis must be x, y or z, got `{a}`")))
-        })
-        .collect()
-}
-
 pub fn damping_text(d: &satqual::spec::analysis::DampingSpec, given: bool) -> String {
     let base = match (d.q, d.zeta, &d.table) {
         (Some(q), _, _) => format!("Q = {q} (ζ = {:.4})", 0.5 / q),
@@ -66,24 +53,9 @@ pub fn damping_text(d: &satqual::spec::analysis::DampingSpec, given: bool) -> St
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let scene = satqual::spec::Scene::load(&args.scene)?;
-    let spec = scene.file.sine.clone().ok_or_else(|| {
-        Error::Other(format!(
-            "{}: the scene has no [sine] section (add [sine] with [[sine.segment]] levels)",
-            args.scene.display()
-        ))
-    })?;
-    let axes = axes(&args.axis, &spec.axes)?;
-    let (model, sys) = satqual::pipeline::modal(&scene, None, None)?;
-    let prep = Prepared::new(&scene, &model, &sys)?;
-    let mut results = Vec::new();
-    for &a in &axes {
-        results.push(response::sine::run(
-            &prep,
-            &spec,
-            a,
-            &SineOptions::default(),
-        )?);
-    }
+    let plan = plan::sine_command(&scene, args.axis.as_deref())?;
+    let run = workflows::response::sine(&scene, &plan)?;
+    let (spec, results) = (&plan.spec, &run.axes);
     let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
     let p = Printer::new(args.json);
     let mut t = String::new();
@@ -93,9 +65,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         args.scene.display(),
         spec.band().0,
         spec.band().1,
-        damping_text(&prep.damping, scene.file.damping.is_some())
+        damping_text(&run.damping, scene.file.damping.is_some())
     );
-    for r in &results {
+    for r in results {
         let _ = writeln!(
             t,
             "axis {}: {} modes + residual vector: {}, {} frequencies",
@@ -146,37 +118,12 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     p.human(&t);
     p.json(&Output {
         scene: args.scene.display().to_string(),
-        damping: damping_text(&prep.damping, scene.file.damping.is_some()),
+        damping: damping_text(&run.damping, scene.file.damping.is_some()),
         pass,
-        axes: &results,
+        axes: results,
     })?;
     if let Some(dir) = &args.out {
-        for r in &results {
-            let name = format!("sine-{}", r.axis);
-            satqual::report::write_atomic(
-                &dir.join(format!("{name}.csv")),
-                r.curves.to_csv("input_g").as_bytes(),
-            )?;
-            satqual::report::write_atomic(
-                &dir.join(format!("{name}-interfaces.csv")),
-                r.curves.csv_of("input_g", &r.curves.interfaces).as_bytes(),
-            )?;
-            satqual::report::write_atomic(
-                &dir.join(format!("{name}-bars.csv")),
-                r.curves.csv_of("input_g", &r.curves.bars).as_bytes(),
-            )?;
-            let svg = plot(
-                &r.curves,
-                &format!("Sine, axis {}: absolute acceleration", r.axis),
-                "acceleration amplitude [g]",
-                "input [g]",
-                false,
-            );
-            satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
-        }
-        let json =
-            serde_json::to_string_pretty(&results).map_err(|e| Error::Other(e.to_string()))?;
-        satqual::report::write_atomic(&dir.join("sine.json"), json.as_bytes())?;
+        write_outputs(dir, results)?;
         p.human(&format!("curves and plots written to {}", dir.display()));
     }
     Ok(if pass {
@@ -186,8 +133,38 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     })
 }
 
+/// Per axis the response, joint and bar curves (CSV) and a plot (SVG); all axes as JSON.
+fn write_outputs(dir: &Path, results: &[response::SineAxis]) -> Result<(), Error> {
+    for r in results {
+        let name = format!("sine-{}", r.axis);
+        satqual::report::write_atomic(
+            &dir.join(format!("{name}.csv")),
+            r.curves.to_csv("input_g").as_bytes(),
+        )?;
+        satqual::report::write_atomic(
+            &dir.join(format!("{name}-interfaces.csv")),
+            r.curves.csv_of("input_g", &r.curves.interfaces).as_bytes(),
+        )?;
+        satqual::report::write_atomic(
+            &dir.join(format!("{name}-bars.csv")),
+            r.curves.csv_of("input_g", &r.curves.bars).as_bytes(),
+        )?;
+        let svg = plot(
+            &r.curves,
+            &format!("Sine, axis {}: absolute acceleration", r.axis),
+            "acceleration amplitude [g]",
+            "input [g]",
+            false,
+        );
+        satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
+    }
+    let json = serde_json::to_string_pretty(results).map_err(|e| Error::Other(e.to_string()))?;
+    satqual::report::write_atomic(&dir.join("sine.json"), json.as_bytes())?;
+    Ok(())
+}
+
 /// The worst margin of each kind.
-pub fn summarize_margins(t: &mut String, ms: &[response::Margin]) {
+pub fn summarize_margins(t: &mut String, ms: &[Verdict]) {
     let mut kinds: Vec<&str> = ms.iter().map(|m| m.kind.as_str()).collect();
     kinds.dedup();
     kinds.sort();

@@ -5,12 +5,16 @@
 use super::psd::parse_units;
 use super::{Outcome, Printer};
 use satqual::Error;
+use satqual::pipeline::workflows::{
+    self,
+    sweep::{SweepRequest, SweepRun},
+};
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
-use satqual::signal::ingest::{IngestOptions, read_csv};
-use satqual::signal::{SweepOptions, sweep_resonance, track_sweep};
+use satqual::signal::SweepOptions;
+use satqual::signal::ingest::IngestOptions;
 use serde_json::json;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -48,35 +52,18 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ..Default::default()
     };
     parse_units(args.units.as_deref(), &mut ingest)?;
-    let log = read_csv(&args.log, &ingest)?;
-    let drive = log.channel(&args.control)?;
-    let names: Vec<String> = match &args.responses {
-        Some(v) => v.clone(),
-        None => log
-            .info
-            .channels
-            .iter()
-            .map(|c| c.name.clone())
-            .filter(|n| *n != args.control)
-            .collect(),
-    };
-    if names.is_empty() {
-        return Err(Error::Other(format!(
-            "{}: no response channel besides `{}`",
-            args.log.display(),
-            args.control
-        )));
-    }
-    let resp: Vec<&[f64]> = names
-        .iter()
-        .map(|n| log.channel(n))
-        .collect::<Result<_, _>>()?;
-    let opts = SweepOptions {
-        block_s: args.block_s,
-        hop_s: args.hop_s,
-        ..Default::default()
-    };
-    let track = track_sweep(drive, &resp, log.info.fs_hz, &opts)?;
+    let run = workflows::sweep::run(&SweepRequest {
+        log: &args.log,
+        control: &args.control,
+        responses: args.responses.clone(),
+        ingest,
+        options: SweepOptions {
+            block_s: args.block_s,
+            hop_s: args.hop_s,
+            ..Default::default()
+        },
+    })?;
+    let (track, names) = (&run.track, &run.responses);
     let mut human = vec![format!(
         "{}: sweep tracked on `{}`, {} blocks, {:.2}–{:.2} Hz",
         args.log.display(),
@@ -86,9 +73,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         track.frequency_hz.last().copied().unwrap_or(f64::NAN)
     )];
     let mut out = Vec::new();
-    for (r, name) in names.iter().enumerate() {
-        let res = sweep_resonance(&track, r);
-        match &res {
+    for (name, res) in names.iter().zip(&run.resonances) {
+        match res {
             Some(x) => human.push(format!(
                 "  {name}: fn {:.3} Hz  |H| {:.6e}  Q {}  phase {:.1}°  sine fraction {:.4}",
                 x.frequency_hz,
@@ -108,57 +94,14 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         }));
     }
     if let Some(dir) = &args.out {
-        let mut csv = String::from("time_s,frequency_hz,drive_amplitude");
-        for n in &names {
-            csv.push_str(&format!(",{n}_mag,{n}_phase_deg,{n}_sine_fraction"));
-        }
-        csv.push('\n');
-        for k in 0..track.frequency_hz.len() {
-            csv.push_str(&format!(
-                "{:.6},{:.6},{:.9e}",
-                track.time_s[k], track.frequency_hz[k], track.drive_amplitude[k]
-            ));
-            for r in 0..names.len() {
-                let h = track.h[r][k];
-                csv.push_str(&format!(
-                    ",{:.9e},{:.4},{:.6}",
-                    h.norm(),
-                    h.arg().to_degrees(),
-                    track.sine_fraction[r][k]
-                ));
-            }
-            csv.push('\n');
-        }
-        write_atomic(&dir.join("sweep.csv"), csv.as_bytes())?;
-        let pts: Vec<Vec<(f64, f64)>> = track
-            .h
-            .iter()
-            .map(|h| {
-                track
-                    .frequency_hz
-                    .iter()
-                    .zip(h)
-                    .map(|(f, z)| (*f, z.norm()))
-                    .collect()
-            })
-            .collect();
-        let series: Vec<Series> = names
-            .iter()
-            .zip(&pts)
-            .map(|(n, p)| Series {
-                label: format!("|{n}/{}|", args.control),
-                points: p,
-            })
-            .collect();
-        let svg = loglog_svg("sweep response", "drive frequency [Hz]", "|H|", &series)?;
-        write_atomic(&dir.join("sweep.svg"), svg.as_bytes())?;
+        write_outputs(dir, &run, &args.control)?;
         human.push(format!("  wrote {}/sweep.csv, sweep.svg", dir.display()));
     }
     p.human(&human.join("\n"));
     p.json(&json!({
         "file": args.log,
         "control": args.control,
-        "fs_hz": log.info.fs_hz,
+        "fs_hz": run.fs_hz,
         "block_s": args.block_s,
         "hop_s": args.hop_s,
         "blocks": track.frequency_hz.len(),
@@ -167,4 +110,55 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "responses": out,
     }))?;
     Ok(Outcome::Pass)
+}
+
+/// sweep.csv (per block: time, drive frequency and amplitude, then per response |H|, phase
+/// and sine fraction) and sweep.svg (|H| against drive frequency, log-log).
+fn write_outputs(dir: &Path, run: &SweepRun, control: &str) -> Result<(), Error> {
+    let (track, names) = (&run.track, &run.responses);
+    let mut csv = String::from("time_s,frequency_hz,drive_amplitude");
+    for n in names {
+        csv.push_str(&format!(",{n}_mag,{n}_phase_deg,{n}_sine_fraction"));
+    }
+    csv.push('\n');
+    for k in 0..track.frequency_hz.len() {
+        csv.push_str(&format!(
+            "{:.6},{:.6},{:.9e}",
+            track.time_s[k], track.frequency_hz[k], track.drive_amplitude[k]
+        ));
+        for r in 0..names.len() {
+            let h = track.h[r][k];
+            csv.push_str(&format!(
+                ",{:.9e},{:.4},{:.6}",
+                h.norm(),
+                h.arg().to_degrees(),
+                track.sine_fraction[r][k]
+            ));
+        }
+        csv.push('\n');
+    }
+    write_atomic(&dir.join("sweep.csv"), csv.as_bytes())?;
+    let pts: Vec<Vec<(f64, f64)>> = track
+        .h
+        .iter()
+        .map(|h| {
+            track
+                .frequency_hz
+                .iter()
+                .zip(h)
+                .map(|(f, z)| (*f, z.norm()))
+                .collect()
+        })
+        .collect();
+    let series: Vec<Series> = names
+        .iter()
+        .zip(&pts)
+        .map(|(n, p)| Series {
+            label: format!("|{n}/{}|", control),
+            points: p,
+        })
+        .collect();
+    let svg = loglog_svg("sweep response", "drive frequency [Hz]", "|H|", &series)?;
+    write_atomic(&dir.join("sweep.svg"), svg.as_bytes())?;
+    Ok(())
 }

@@ -13,7 +13,7 @@ pub mod svg_plot;
 /// The results of a qualification, which the report presents. Imported here only, and used
 /// through this re-export everywhere in `report`, so the results can move without the report
 /// following them file by file.
-pub(crate) use crate::pipeline::{
+pub(crate) use crate::results::{
     ModalSummary, Qualification, SeparationSummary, TestDataSummary, TestLogResult,
 };
 

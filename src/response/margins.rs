@@ -1,7 +1,7 @@
 //! Lock-integrity margins from the recovered loads: gapping and slip of every preloaded column
 //! joint, and the strength of the guide bars. Factors come from `spec::analysis::MarginsSpec`
 //! (the one place where the defaults and their sources are written). Results are values, not
-//! messages: the `gates` layer turns them into verdicts.
+//! messages: the `gates` layer gates the governing ones.
 //!
 //! - Gapping (NASA-STD-5020B §4.4.1 separation): MS = P_preload,min / (FF·FS_sep·P_ext) − 1,
 //!   P_ext = the axial tension amplitude of the joint (plus, with `include_face_moment`, M·A/Z
@@ -14,41 +14,25 @@
 //!   factored): σ = σ_preload,max + FS·(|N|/A + M_b/Z), τ = FS·T/(J/c),
 //!   σ_vm = √(σ² + 3τ²); MS = allowable/σ_vm − 1 against yield (FS 1.25) and ultimate (1.4).
 //!
-//! A margin whose load is nil is reported as [`MARGIN_CAP`].
+//! A margin whose load is nil is reported as [`MARGIN_CAP`]. Each margin is a
+//! [`Verdict`] naming its `kind` (`gapping`, `slip`, `bar yield`, `bar ultimate`) and its
+//! `load_case` (`sine x`, `random z` ...); `value` is the factored applied quantity (N, or Pa
+//! for stresses) and `limit` the allowable it is compared with.
 
 use super::outputs::{BarStation, InterfaceOut};
+use crate::gates::Verdict;
 use crate::spec::analysis::MarginsSpec;
-use serde::Serialize;
 
 /// Margins above this are reported as this value (no meaningful load on that path).
 pub const MARGIN_CAP: f64 = 999.0;
 
-/// One margin of safety. `margin` > 0 passes.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Margin {
-    /// What is checked, e.g. `gapping interface sat 2/sat 1 column 3`.
-    pub name: String,
-    /// `gapping`, `slip`, `bar yield` or `bar ultimate`.
-    pub kind: String,
-    /// `sine x`, `random z` ...
-    pub load_case: String,
-    /// The factored applied quantity (N, or Pa for stresses).
-    pub value: f64,
-    /// The allowable it is compared with.
-    pub limit: f64,
-    pub margin: f64,
-    pub pass: bool,
-    /// The criterion and the source of its factors.
-    pub source: String,
-}
-
-fn margin(name: String, kind: &str, case: &str, value: f64, limit: f64, source: String) -> Margin {
+fn margin(name: String, kind: &str, case: &str, value: f64, limit: f64, source: String) -> Verdict {
     let m = if value > 1e-12 * limit.abs().max(1e-300) {
         (limit / value - 1.0).min(MARGIN_CAP)
     } else {
         MARGIN_CAP
     };
-    Margin {
+    Verdict {
         name,
         kind: kind.into(),
         load_case: case.into(),
@@ -68,7 +52,7 @@ pub fn interface(
     v_ext: f64,
     s: &MarginsSpec,
     case: &str,
-) -> Vec<Margin> {
+) -> Vec<Verdict> {
     let Some(nominal) = ifc.preload_n else {
         return Vec::new();
     };
@@ -121,7 +105,7 @@ pub fn bar(
     vm_yield: f64,
     vm_ult: f64,
     case: &str,
-) -> Vec<Margin> {
+) -> Vec<Verdict> {
     let mut out = Vec::new();
     if let Some(y) = st.yield_pa {
         out.push(margin(
@@ -159,8 +143,8 @@ pub fn bar(
 }
 
 /// Keeps, for each (name, kind), the smallest margin.
-pub fn worst_per_item(ms: Vec<Margin>) -> Vec<Margin> {
-    let mut out: Vec<Margin> = Vec::new();
+pub fn worst_per_item(ms: Vec<Verdict>) -> Vec<Verdict> {
+    let mut out: Vec<Verdict> = Vec::new();
     for m in ms {
         match out
             .iter_mut()

@@ -24,13 +24,13 @@ pub mod sine;
 
 use crate::error::Error;
 use crate::fem::FeModel;
+use crate::gates::Verdict;
 use crate::modal::ModalSystem;
 use crate::spec::Scene;
 use crate::spec::analysis::{DampingSpec, MarginsSpec};
 
 pub use basis::Basis;
 pub use frf::{DirectFrf, Frf, ModalFrf};
-pub use margins::Margin;
 pub use outputs::OutputSet;
 pub use random::{RandomAxis, RandomOptions};
 pub use sine::{SineAxis, SineOptions};
@@ -112,7 +112,7 @@ pub struct SceneResponse {
 
 impl SceneResponse {
     /// Every margin of every analysis and axis.
-    pub fn margins(&self) -> impl Iterator<Item = &Margin> {
+    pub fn margins(&self) -> impl Iterator<Item = &Verdict> {
         self.sine
             .iter()
             .flat_map(|a| a.margins.iter())
@@ -120,7 +120,7 @@ impl SceneResponse {
     }
 
     /// The smallest margin for each checked item (name and kind) over all load cases.
-    pub fn governing_margins(&self) -> Vec<Margin> {
+    pub fn governing_margins(&self) -> Vec<Verdict> {
         margins::worst_per_item(self.margins().cloned().collect())
     }
 

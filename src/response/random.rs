@@ -8,9 +8,10 @@
 //! rms values (an upper bound: it assumes the two are fully correlated).
 
 use super::grid::{self, GridSpec};
-use super::margins::{self, Margin};
+use super::margins;
 use super::{Curves, Frf, Prepared, axis_name};
 use crate::error::Error;
+use crate::gates::Verdict;
 use crate::spec::analysis::RandomSpec;
 use serde::Serialize;
 
@@ -83,7 +84,7 @@ pub struct RandomAxis {
     pub responses: Vec<RandomPoint>,
     pub interfaces: Vec<InterfaceRandom>,
     pub bar_stations: Vec<BarStationRandom>,
-    pub margins: Vec<Margin>,
+    pub margins: Vec<Verdict>,
     #[serde(skip)]
     pub curves: Curves,
 }

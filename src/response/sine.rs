@@ -9,9 +9,10 @@
 //! shear = √(|Fx|² + |Fy|²), face moment = √(|Mx|² + |My|²), bar bending = √(|My|² + |Mz|²).
 
 use super::grid::{self, GridSpec};
-use super::margins::{self, Margin};
+use super::margins;
 use super::{Curves, Frf, Prepared, axis_name};
 use crate::error::Error;
+use crate::gates::Verdict;
 use crate::spec::analysis::SineSpec;
 use serde::Serialize;
 
@@ -84,7 +85,7 @@ pub struct SineAxis {
     pub peaks: Vec<PointPeak>,
     pub interfaces: Vec<InterfaceSine>,
     pub bar_stations: Vec<BarStationSine>,
-    pub margins: Vec<Margin>,
+    pub margins: Vec<Verdict>,
     #[serde(skip)]
     pub curves: Curves,
 }

@@ -59,20 +59,16 @@ fn or_dash(v: Option<String>) -> String {
 mod tests {
     use super::*;
     use crate::gates::Verdict;
-    use crate::pipeline::{PaperComparison, Provenance, Skipped};
     use crate::report::render_html;
     use crate::report::render_md;
+    use crate::results::{PaperComparison, Provenance, Skipped};
 
     /// A qualification with one passed and one failed gate, no analyses' results, and every
     /// section that needs none of them.
     fn small_qualification() -> Qualification {
-        let gate = |name: &str, pass: bool| Verdict {
-            name: name.into(),
-            value: 1.0,
-            limit: 2.0,
-            margin: if pass { 0.5 } else { -0.5 },
-            pass,
-            source: "scene".into(),
+        let gate = |name: &str, pass: bool| {
+            let margin = if pass { 0.5 } else { -0.5 };
+            Verdict::gate(name, 1.0, 2.0, margin, pass, "scene")
         };
         Qualification {
             scene: "small".into(),

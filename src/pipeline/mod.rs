@@ -1,0 +1,26 @@
+//! The integration layer: the only module that knows the whole order
+//! spec -> fem -> modal -> response -> gates -> results.
+//!
+//! - [`plan`]: a scene resolved once into typed, defaulted inputs per analysis;
+//! - [`workflows`]: one workflow per analysis, shared by the command line and `qualify`;
+//! - [`qualify()`]: runs the planned analyses once each, gates them, and fills
+//!   [`crate::results::Qualification`].
+
+mod comparison;
+pub mod plan;
+mod provenance;
+mod qualify;
+pub mod workflows;
+
+pub use provenance::fnv1a;
+pub use qualify::qualify;
+pub use workflows::modal::{fe_model, locate, modal, modal_with_solver};
+
+/// Progress reporting for long stages; the library never prints, the caller decides.
+pub trait Progress {
+    fn stage(&self, _name: &str) {}
+}
+
+/// A no-op progress sink.
+pub struct Silent;
+impl Progress for Silent {}

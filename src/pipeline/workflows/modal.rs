@@ -1,0 +1,91 @@
+//! The modal workflow: the FE model of a scene and its modes (with prestress and buckling
+//! factor when the scene has static loads). Errors of the numerical layers are mapped back to
+//! the scene: an FE error that names a scene node gets that node's file, line and column.
+
+use crate::error::{Error, FemError, ModalError, SpecError};
+use crate::fem::FeModel;
+use crate::modal::{ModalOptions, ModalSystem};
+use crate::pipeline::plan::{ModalOverrides, modal_options};
+use crate::spec::{Scene, SolverChoice};
+
+/// The modal analysis of a scene, `[modal]` overridden by a frequency cap or a mode count.
+pub fn modal(
+    scene: &Scene,
+    fmax_hz: Option<f64>,
+    modes: Option<usize>,
+) -> Result<(FeModel, ModalSystem), Error> {
+    modal_with_solver(scene, fmax_hz, modes, None)
+}
+
+/// [`modal`] with a solver override (`--solver`) that takes precedence over `[modal] solver`.
+pub fn modal_with_solver(
+    scene: &Scene,
+    fmax_hz: Option<f64>,
+    modes: Option<usize>,
+    solver: Option<SolverChoice>,
+) -> Result<(FeModel, ModalSystem), Error> {
+    let overrides = ModalOverrides {
+        fmax_hz,
+        modes,
+        solver,
+    };
+    run(scene, &modal_options(scene, &overrides))
+}
+
+/// The modal analysis of a scene with resolved options.
+pub fn run(scene: &Scene, opts: &ModalOptions) -> Result<(FeModel, ModalSystem), Error> {
+    let model = fe_model(scene)?;
+    let sys = crate::modal::analyze(&model, opts).map_err(|e| locate_modal_error(scene, e))?;
+    Ok((model, sys))
+}
+
+/// The FE model of a scene, with FE errors located in the scene.
+pub fn fe_model(scene: &Scene) -> Result<FeModel, Error> {
+    FeModel::from_scene(&scene.model).map_err(|e| locate(scene, e))
+}
+
+/// An FE error located at its node; a preload beyond buckling located at the stack's preload,
+/// with the buckling load it exceeds.
+fn locate_modal_error(scene: &Scene, e: Error) -> Error {
+    match (e, &scene.file.stack) {
+        (Error::Fem(f), _) => locate(scene, f),
+        (Error::Modal(ModalError::BeyondBuckling { factor }), Some(stack)) => {
+            let preload = stack.preload_total_n;
+            let msg = format!(
+                "the preload of {preload:.0} N is above the stack's buckling load of {:.0} N (buckling factor {factor:.3}): reduce the preload or stiffen the columns",
+                factor * preload
+            );
+            scene.locator().err("stack.preload_total_n", msg).into()
+        }
+        (other, _) => other,
+    }
+}
+
+/// Attaches the scene location of the node an FE error names, when it is a scene node.
+pub fn locate(scene: &Scene, e: FemError) -> Error {
+    let node = match &e {
+        FemError::MasslessDof { node, .. }
+        | FemError::Unconstrained { node, .. }
+        | FemError::RigidChain { node } => node.clone(),
+        _ => return e.into(),
+    };
+    let id = node
+        .strip_prefix("node ")
+        .and_then(|s| s.parse::<i64>().ok());
+    match id.and_then(|id| scene.file.node.iter().position(|n| n.id == id)) {
+        Some(i) => {
+            let key = format!("node[{i}]");
+            let mut se: SpecError = scene.locator().err(&format!("{key}.id"), e.to_string());
+            se.key = key;
+            se.into()
+        }
+        None => SpecError {
+            file: scene.path.clone(),
+            line: 0,
+            column: 0,
+            key: String::new(),
+            message: e.to_string(),
+        }
+        .into(),
+    }
+}

@@ -1,0 +1,116 @@
+//! What a qualification found, as data: the result types `pipeline::qualify` fills and the
+//! report renders. They live apart from the orchestrator so that the renderer depends on the
+//! results, not on the planner. Their serde output is the `results.json` of a report.
+
+use crate::gates::Verdict;
+use crate::modal::ModalResult;
+use crate::response::SceneResponse;
+use crate::separation::{MonteCarloResult, SeparationResult};
+use crate::signal::{Resonance, SignatureReport, ToleranceReport};
+use crate::spec::LogKind;
+use serde::Serialize;
+
+/// An analysis the scene did not ask for, and why it was not run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Skipped {
+    pub analysis: String,
+    pub reason: String,
+}
+
+impl Skipped {
+    pub fn new(analysis: impl Into<String>, reason: impl Into<String>) -> Skipped {
+        Skipped {
+            analysis: analysis.into(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// The modal part of a qualification.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModalSummary {
+    pub result: ModalResult,
+    /// The first mode with ≥ 10% effective mass along x, y and z: the resonances the
+    /// stiffness gates judge (index, frequency).
+    pub first_x: Option<(usize, f64)>,
+    pub first_y: Option<(usize, f64)>,
+    pub first_z: Option<(usize, f64)>,
+}
+
+/// The separation part of a qualification: the nominal run, and the Monte Carlo when asked.
+#[derive(Debug, Clone, Serialize)]
+pub struct SeparationSummary {
+    pub result: SeparationResult,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<MonteCarloResult>,
+}
+
+/// One line of the comparison with the paper's measured or simulated values.
+#[derive(Debug, Clone, Serialize)]
+pub struct PaperComparison {
+    pub quantity: String,
+    pub paper: String,
+    pub satqual: String,
+    pub source: String,
+}
+
+/// Where the result came from: enough to reproduce it. No timestamps, so two runs give
+/// byte-identical JSON.
+#[derive(Debug, Clone, Serialize)]
+pub struct Provenance {
+    pub scene_file: String,
+    /// FNV-1a 64-bit hash of the scene text, hex.
+    pub scene_hash: String,
+    pub satqual_version: String,
+    pub modal_solver: Option<String>,
+    pub separation_tolerance: Option<f64>,
+}
+
+/// Everything `qualify` found.
+#[derive(Debug, Clone, Serialize)]
+pub struct Qualification {
+    pub scene: String,
+    pub title: Option<String>,
+    pub pass: bool,
+    pub gates: Vec<Verdict>,
+    pub ran: Vec<String>,
+    pub skipped: Vec<Skipped>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub modal: Option<ModalSummary>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub response: Option<SceneResponse>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separation: Option<SeparationSummary>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub test_data: Option<TestDataSummary>,
+    pub paper_comparison: Vec<PaperComparison>,
+    pub assumptions: Vec<String>,
+    pub provenance: Provenance,
+}
+
+/// What one measured log gave.
+#[derive(Debug, Clone, Serialize)]
+pub struct TestLogResult {
+    pub name: String,
+    pub file: String,
+    pub kind: LogKind,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<ToleranceReport>,
+    /// Grms of every channel.
+    pub channels: Vec<(String, f64)>,
+    /// Resonances of the FRF control -> first response (sweep and signature logs).
+    pub resonances: Vec<Resonance>,
+    /// Curves for the report: (label, [(f, value)]).
+    #[serde(skip)]
+    pub curves: Vec<(String, Vec<(f64, f64)>)>,
+    #[serde(skip)]
+    pub log_scale_y: bool,
+}
+
+/// The test-data part of a qualification.
+#[derive(Debug, Clone, Serialize)]
+pub struct TestDataSummary {
+    pub logs: Vec<TestLogResult>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub signature: Option<SignatureReport>,
+}
