@@ -16,6 +16,8 @@
 //!
 //! Only [`pipeline`] knows the whole order. Analyses never do I/O; the binary prints and exits.
 
+pub mod bench;
+pub mod catalogue;
 pub mod error;
 pub mod fem;
 pub mod gates;
