@@ -1,4 +1,4 @@
-//! Bad input for the separation model (issue 6): each gives one clear error naming the file,
+//! Bad input for the separation model: each gives one clear error naming the file,
 //! line and key; a run that goes non-finite stops and names the time and body.
 
 use satqual::Error;

@@ -1,4 +1,4 @@
-//! Monte Carlo determinism (issue 6): the output for a seed is identical whatever the number
+//! Monte Carlo determinism: the output for a seed is identical whatever the number
 //! of threads. `RAYON_NUM_THREADS` only sizes rayon's global pool once per process, so the
 //! test runs the same call inside explicit pools of 1 and 4 threads, which is what that
 //! variable selects.
