@@ -12,7 +12,6 @@ use satqual::error::{Error, FemError, ModalError};
 use satqual::fem::FeModel;
 use satqual::modal::{ModalOptions, ModalResult, analyze, sparse::sturm_check};
 use satqual::spec::{Scene, SolverChoice};
-use std::fmt::Write as _;
 
 const FREQ_TOL: f64 = 1e-8;
 const MASS_TOL: f64 = 1e-8;
