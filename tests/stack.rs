@@ -228,31 +228,18 @@ fn stack_err(from: &str, to: &str) -> String {
     }
 }
 
-#[test]
-fn bad_stack_input() {
-    let e = stack_err("satellites = 2 ", "satellites = 0 ");
-    assert!(
-        e.contains("stack.satellites") && e.contains("at least one satellite"),
-        "{e}"
-    );
-    assert!(e.starts_with("bad-stack.toml:"), "{e}");
-    let e = stack_err("preload_total_n = 45000.0", "preload_total_n = 0.0");
-    assert!(
-        e.contains("stack.preload_total_n") && e.contains("must be positive"),
-        "{e}"
-    );
-    let e = stack_err("preload_total_n = 45000.0", "preload_total_n = -5.0");
-    assert!(e.contains("stack.preload_total_n"), "{e}");
-    let e = stack_err("bar_length_m = 1.2", "bar_length_m = 0.9");
-    assert!(
-        e.contains("stack.bar_length_m") && e.contains("shorter than the stack"),
-        "{e}"
-    );
-    let e = stack_err("bar_diameter_m = 0.020", "bar_diameter_m = 0.030");
-    assert!(
-        e.contains("stack.bar_diameter_m") && e.contains("does not fit"),
-        "{e}"
-    );
+refused_input_cases! {
+    error: stack_err;
+    no_satellites: "satellites = 2 " => "satellites = 0 ",
+        contains ["stack.satellites", "at least one satellite"], starting "bad-stack.toml:";
+    zero_preload: "preload_total_n = 45000.0" => "preload_total_n = 0.0",
+        contains ["stack.preload_total_n", "must be positive"];
+    negative_preload: "preload_total_n = 45000.0" => "preload_total_n = -5.0",
+        contains ["stack.preload_total_n"];
+    bars_shorter_than_the_stack: "bar_length_m = 1.2" => "bar_length_m = 0.9",
+        contains ["stack.bar_length_m", "shorter than the stack"];
+    bar_wider_than_the_bore: "bar_diameter_m = 0.020" => "bar_diameter_m = 0.030",
+        contains ["stack.bar_diameter_m", "does not fit"];
 }
 
 #[test]

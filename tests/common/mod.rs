@@ -86,9 +86,11 @@ pub fn gauss(rng: &mut rand_chacha::ChaCha8Rng) -> f64 {
 
 /// Bad-input cases as a table, one `#[test]` per row. `error(from, to)` returns the error of a
 /// scene with one substitution (see [`scene_error`]); the error must contain every needle and,
-/// where `at` gives a line number, start with `bad.toml:LINE:` so that the user finds the key.
+/// where `at` gives a line number, start with `bad.toml:LINE:` so that the user finds the key
+/// (`starting` gives the expected start itself).
 macro_rules! refused_input_cases {
-    (error: $error:expr; $($name:ident: $from:expr => $to:expr, contains $needles:expr $(, at $line:expr)?;)+) => {
+    (error: $error:expr; $($name:ident: $from:expr => $to:expr, contains $needles:expr
+        $(, at $line:expr)? $(, starting $prefix:expr)?;)+) => {
         $(
             #[test]
             fn $name() {
@@ -99,6 +101,9 @@ macro_rules! refused_input_cases {
                 $(
                     let at = format!("bad.toml:{}:", $line);
                     assert!(e.starts_with(&at), "expected to start with {at}: {e}");
+                )?
+                $(
+                    assert!(e.starts_with($prefix), "expected to start with {}: {e}", $prefix);
                 )?
             }
         )+
