@@ -7,8 +7,7 @@ use satqual::spec::Scene;
 use std::path::Path;
 
 fn paper() -> (Scene, Model) {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("test-specs/paper-stack.toml");
-    let scene = Scene::load(&p).expect("paper-stack.toml loads");
+    let scene = crate::common::load(satqual::catalogue::PAPER_STACK);
     let model = Model::from_scene(&scene).expect("paper-stack.toml builds");
     (scene, model)
 }

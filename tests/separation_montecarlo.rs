@@ -4,12 +4,9 @@
 //! variable selects.
 
 use satqual::separation::{Model, monte_carlo};
-use satqual::spec::Scene;
-use std::path::Path;
 
 fn model() -> Model {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("test-specs/paper-stack.toml");
-    let scene = Scene::load(&p).unwrap();
+    let scene = crate::common::load(satqual::catalogue::PAPER_STACK);
     let mut m = Model::from_scene(&scene).unwrap();
     // Keep the test fast: rigid bars, the top two releases (the rest stay latched).
     m.bars = None;

@@ -11,7 +11,7 @@ use serde_json::Value;
 use std::path::PathBuf;
 
 fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    crate::common::repo_path("")
 }
 
 fn uff_psd() -> (Vec<f64>, Vec<f64>) {

@@ -7,8 +7,7 @@ use serde_json::Value;
 use std::path::PathBuf;
 
 fn file() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("data/realdata/usc-shaker-beam/data_set_1_3200Hz.csv")
+    crate::common::repo_path(satqual::catalogue::logs::SHAKER_BEAM)
 }
 
 #[test]

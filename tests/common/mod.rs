@@ -42,6 +42,11 @@ pub fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
+/// A repository file, whatever the working directory.
+pub fn repo_path(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+}
+
 /// Loads a scene; panics with its path and the error.
 pub fn load(path: &str) -> Scene {
     Scene::load(Path::new(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
