@@ -17,7 +17,7 @@
 //! Only [`pipeline`] knows the whole order. Analyses never do I/O; the binary prints and exits.
 //!
 //! Beside the flow: [`catalogue`] (the canonical problems: scenes, analytic answers, generated
-//! stacks) imports nothing, so tests and benchmarks can all draw from it; [`bench`] (the
+//! stacks) imports nothing, so tests and benchmarks can all draw from it; [`bench`](mod@bench) (the
 //! work-precision tables of `satqual bench`) imports everything and nothing imports it.
 
 pub mod bench;
