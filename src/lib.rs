@@ -18,7 +18,13 @@
 //! Only [`pipeline`] knows the whole order: it resolves a scene into a plan, runs one workflow
 //! per analysis and fills the [`results`] the report renders. Analyses never do I/O; the
 //! binary prints and exits.
+//!
+//! Beside the flow: [`catalogue`] (the canonical problems: scenes, analytic answers, generated
+//! stacks) imports nothing, so tests and benchmarks can all draw from it; [`bench`](mod@bench) (the
+//! work-precision tables of `satqual bench`) imports everything and nothing imports it.
 
+pub mod bench;
+pub mod catalogue;
 pub mod error;
 pub mod fem;
 pub mod gates;

@@ -1,13 +1,10 @@
 //! The `satqual modal` command-line contract: exit codes, JSON on stdout with the human table
 //! on stderr, prestress fields, matrix export, and clean errors for bad input.
 
-use std::process::Command;
+use crate::common;
 
 fn satqual(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_satqual"))
-        .args(args)
-        .output()
-        .expect("run satqual")
+    common::run(args, None)
 }
 
 #[test]
@@ -82,9 +79,8 @@ fn fmax_override_limits_modes() {
 
 #[test]
 fn prestress_block_and_export() {
-    let dir = std::env::temp_dir().join(format!("satqual-export-{}", std::process::id()));
+    let dir = crate::common::temp_dir("export");
     let scene = dir.join("bar.toml");
-    std::fs::create_dir_all(&dir).unwrap();
     let text = std::fs::read_to_string("test-specs/verification/cantilever.toml")
         .unwrap()
         .replace(
@@ -129,8 +125,7 @@ fn prestress_block_and_export() {
 
 #[test]
 fn bad_scene_exits_2_with_location_and_no_panic() {
-    let dir = std::env::temp_dir().join(format!("satqual-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::temp_dir("bad");
     let scene = dir.join("bad.toml");
     let text = std::fs::read_to_string("test-specs/verification/cantilever.toml")
         .unwrap()
@@ -158,12 +153,11 @@ fn bad_scene_exits_2_with_location_and_no_panic() {
 #[test]
 fn json_is_deterministic_across_thread_counts() {
     let run = |threads: &str| {
-        Command::new(env!("CARGO_BIN_EXE_satqual"))
-            .args(["modal", "test-specs/verification/nafems-fv4.toml", "--json"])
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .unwrap()
-            .stdout
+        common::run(
+            &["modal", "test-specs/verification/nafems-fv4.toml", "--json"],
+            Some(threads),
+        )
+        .stdout
     };
     assert_eq!(run("1"), run("2"));
 }

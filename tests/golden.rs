@@ -5,29 +5,9 @@
 //! numbers moved, by how much, and why.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-const IMPACT: &str = "data/realdata/pyfrf-impact";
-const SHAKER_LOG: &str = "data/realdata/usc-shaker-beam/data_set_1_3200Hz.csv";
-const UFF_PSD: &str = "data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff";
-
-/// Every scene in `test-specs/` (the verification scenes included).
-const SCENES: [&str; 7] = [
-    "test-specs/paper-stack.toml",
-    "test-specs/shaker-2sat.toml",
-    "test-specs/test-data.toml",
-    "test-specs/verification/cantilever.toml",
-    "test-specs/verification/nafems-fv4.toml",
-    "test-specs/verification/nafems-fv5.toml",
-    "test-specs/verification/sdof-base.toml",
-];
-
-/// Scenes with `[sine]` and `[random]` sections.
-const RESPONSE_SCENES: [&str; 3] = [
-    "test-specs/paper-stack.toml",
-    "test-specs/shaker-2sat.toml",
-    "test-specs/verification/sdof-base.toml",
-];
+use satqual::catalogue::logs::{CONTROLLER_PSD_UFF as UFF_PSD, SHAKER_BEAM as SHAKER_LOG, impact};
+use satqual::catalogue::{ALL_SCENES as SCENES, RESPONSE_SCENES};
 
 fn stem(path: &str) -> String {
     Path::new(path)
@@ -35,10 +15,6 @@ fn stem(path: &str) -> String {
         .unwrap()
         .to_string_lossy()
         .into_owned()
-}
-
-fn impact(i: usize) -> String {
-    format!("{IMPACT}/impact_{i}.csv")
 }
 
 /// (golden file name, command arguments) for every command that prints `--json` on stdout.
@@ -108,7 +84,7 @@ fn golden_dir() -> PathBuf {
 }
 
 fn run(args: &[String]) -> Vec<u8> {
-    let out = Command::new(env!("CARGO_BIN_EXE_satqual"))
+    let out = crate::common::satqual()
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .args(args)
         .output()
@@ -170,7 +146,7 @@ fn command_outputs_match_the_golden_files() {
 
 #[test]
 fn qualify_results_match_the_golden_files() {
-    let tmp = std::env::temp_dir().join(format!("satqual-golden-{}", std::process::id()));
+    let tmp = crate::common::temp_dir("golden");
     let mut diffs = Vec::new();
     for scene in SCENES {
         let out = tmp.join(stem(scene));

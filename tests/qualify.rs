@@ -5,14 +5,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("satqual-q-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::common::temp_dir(&format!("q-{name}"))
 }
 
 fn qualify(scene: &Path, out: &Path, threads: Option<&str>) -> std::process::Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_satqual"));
+    let mut c = crate::common::satqual();
     c.args([
         "qualify",
         scene.to_str().unwrap(),
@@ -79,7 +76,7 @@ fn failed_gate_exits_1_names_it_and_still_writes_the_report() {
     let scene = d.join("fv4.toml");
     std::fs::write(&scene, text).unwrap();
     let out = d.join("report");
-    let mut c = Command::new(env!("CARGO_BIN_EXE_satqual"));
+    let mut c = crate::common::satqual();
     let o = c
         .args([
             "qualify",
@@ -252,7 +249,7 @@ fn reduced_preload_gaps_and_the_gate_says_so() {
     )
     .unwrap();
     let out = d.join("report");
-    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
+    let o = crate::common::satqual()
         .args([
             "qualify",
             scene.to_str().unwrap(),

@@ -1,25 +1,15 @@
-//! Accuracy of the response analyses (issue 4) against analytic answers and the direct
+//! Accuracy of the response analyses against analytic answers and the direct
 //! solution. Each reference names its source and tolerance.
 
 use satqual::response::grid::{self, GridSpec};
 use satqual::response::{Prepared, RandomOptions, SineOptions};
 use satqual::spec::Scene;
-use std::path::Path;
 
-fn load(path: &str) -> Scene {
-    Scene::load(Path::new(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
-}
+use crate::common::load;
 
-const ZETA: f64 = 0.05;
-const FN: f64 = 100.0;
-
-/// |T|² of the absolute acceleration of a base-driven SDOF (e.g. Harris' Shock and Vibration
-/// Handbook, ch. 2, eq. 2.30).
-fn t2(f: f64) -> f64 {
-    let r = f / FN;
-    let c = 2.0 * ZETA * r;
-    (1.0 + c * c) / ((1.0 - r * r).powi(2) + c * c)
-}
+use satqual::catalogue::analytic::{
+    SDOF_DAMPING_RATIO as ZETA, SDOF_NATURAL_HZ as FN, sdof_transmissibility_squared as t2,
+};
 
 #[test]
 fn sdof_sine_peak_transmissibility() {
@@ -30,9 +20,10 @@ fn sdof_sine_peak_transmissibility() {
     // Exact maximum of |T|: at r² = (√(1 + 8ζ²) − 1)/(4ζ²).
     let rp = (((1.0 + 8.0 * ZETA * ZETA).sqrt() - 1.0) / (4.0 * ZETA * ZETA)).sqrt();
     let exact = t2(rp * FN).sqrt();
-    // The issue's formula: the value at r = 1, √(1+(2ζ)²)/(2ζ) (0.12 % below the maximum).
+    // The textbook peak value, taken at r = 1: √(1+(2ζ)²)/(2ζ) (0.12 % below the maximum).
     let at_fn = (1.0 + 4.0 * ZETA * ZETA).sqrt() / (2.0 * ZETA);
-    // Grid alone (no refinement) and the refined peak: both within 0.5 % (issue 4).
+    // Grid alone (no refinement) and the refined peak: both within 0.5 % (the acceptance
+    // limit of the sine analysis).
     for refine in [false, true] {
         let r = satqual::response::sine::run(
             &prep,
@@ -215,7 +206,7 @@ fn integration_rule_is_exact_for_cubics() {
 fn modal_with_residual_matches_direct_on_the_paper_stack() {
     // Reference: the direct complex solve of (K − ω²M + iωC)x = −p with the modal damping
     // matrix of all modes (src/response/frf.rs). Tolerance 1 % at every response point,
-    // 5–100 Hz (issue 4), for the default basis (modes to 2000 Hz + residual vector) and for a
+    // 5–100 Hz (the acceptance band), for the default basis (modes to 2000 Hz + residual vector) and for a
     // basis truncated at 200 Hz + residual vector.
     let scene = load("test-specs/paper-stack.toml");
     let (model, sys) = satqual::pipeline::modal(&scene, None, None).unwrap();
@@ -252,7 +243,7 @@ fn modal_with_residual_matches_direct_on_the_paper_stack() {
             }
             (basis.n_modes, worst)
         };
-        // The issue's criterion: the default basis (modes to 2 kHz) with residual vectors is
+        // The acceptance criterion: the default basis (modes to 2 kHz) with residual vectors is
         // within 1% of the direct solution; it is in fact at round-off level, so 1e-4.
         let (n, worst) = worst_of(None, true);
         eprintln!(
@@ -313,7 +304,7 @@ fn residual_vector_recovers_the_static_response_exactly() {
 
 #[test]
 fn random_grid_converges_against_a_fine_grid_on_the_stack() {
-    // Issue 4: integration error against a brute-force fine grid below 0.5 % at a small
+    // The accuracy asked of the random analysis: integration error against a brute-force fine grid below 0.5 % at a small
     // fraction of the points. Reference: the same transfer functions on 200 000 log-spaced
     // points.
     let scene = load("test-specs/shaker-2sat.toml");
@@ -357,7 +348,11 @@ fn random_grid_converges_against_a_fine_grid_on_the_stack() {
         "{} points",
         r.frequency_points
     );
-    assert_eq!(GridSpec::RANDOM.halfwidth, 5.0, "the issue's ±5ζ band");
+    assert_eq!(
+        GridSpec::RANDOM.halfwidth,
+        5.0,
+        "the clustered grid's ±5ζ band"
+    );
 }
 
 #[test]

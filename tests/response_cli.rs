@@ -1,20 +1,11 @@
-//! `satqual sine` / `satqual random` contract (issue 4): JSON fields, exit codes, CSV and SVG
+//! `satqual sine` / `satqual random` contract: JSON fields, exit codes, CSV and SVG
 //! output, and identical JSON whatever the thread count.
 
-use std::process::Command;
-
-fn satqual(args: &[&str], threads: Option<&str>) -> std::process::Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_satqual"));
-    c.args(args);
-    if let Some(t) = threads {
-        c.env("RAYON_NUM_THREADS", t);
-    }
-    c.output().expect("run satqual")
-}
+use crate::common::run as satqual;
 
 #[test]
 fn sine_json_contract_and_out_dir() {
-    let dir = std::env::temp_dir().join(format!("satqual-sine-{}", std::process::id()));
+    let dir = crate::common::temp_dir("sine");
     let out = satqual(
         &[
             "sine",
@@ -73,7 +64,7 @@ fn sine_json_contract_and_out_dir() {
 
 #[test]
 fn random_json_contract_and_out_dir() {
-    let dir = std::env::temp_dir().join(format!("satqual-random-{}", std::process::id()));
+    let dir = crate::common::temp_dir("random");
     let out = satqual(
         &[
             "random",

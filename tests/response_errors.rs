@@ -1,8 +1,5 @@
-//! Bad response input (issue 4): each case gives one clear error naming the file, line and
+//! Bad response input: each case gives one clear error naming the file, line and
 //! key, never a panic.
-
-use satqual::spec::Scene;
-use std::path::Path;
 
 fn base() -> String {
     std::fs::read_to_string("test-specs/verification/sdof-base.toml").unwrap()
@@ -10,21 +7,10 @@ fn base() -> String {
 
 /// Parses the SDOF scene with one substitution; returns the error text.
 fn err_with(from: &str, to: &str) -> String {
-    let b = base();
-    assert!(b.contains(from), "fixture lacks {from:?}");
-    let text = b.replacen(from, to, 1);
-    match Scene::parse(Path::new("bad.toml"), &text) {
-        Ok(_) => panic!("scene with {to:?} was accepted"),
-        Err(e) => e.to_string(),
-    }
+    scene_error(&base(), from, to)
 }
 
-fn line_of(text: &str, needle: &str) -> usize {
-    text.lines()
-        .position(|l| l.contains(needle))
-        .expect("needle")
-        + 1
-}
+use crate::common::{line_of, scene_error};
 
 #[test]
 fn profile_with_non_increasing_frequencies() {
@@ -40,25 +26,35 @@ fn profile_with_non_increasing_frequencies() {
     );
 }
 
-#[test]
-fn negative_psd_level() {
-    let e = err_with(
-        "profile = [[20.0, 0.1], [2000.0, 0.1]]",
-        "profile = [[20.0, 0.1], [2000.0, -0.1]]",
-    );
-    assert!(
-        e.contains("key `random.profile[1]`") && e.contains("must be positive"),
-        "{e}"
-    );
-}
-
-#[test]
-fn negative_sine_level() {
-    let e = err_with("acceleration_g = 1.0", "acceleration_g = -1.0");
-    assert!(e.contains("key `sine.segment[0].acceleration_g`"), "{e}");
-    assert!(e.contains("the level must be positive, got -1"), "{e}");
-    let e = err_with("acceleration_g = 1.0", "displacement_m = -1e-3");
-    assert!(e.contains("key `sine.segment[0].displacement_m`"), "{e}");
+refused_input_cases! {
+    error: err_with;
+    negative_psd_level: "profile = [[20.0, 0.1], [2000.0, 0.1]]" => "profile = [[20.0, 0.1], [2000.0, -0.1]]",
+        contains ["key `random.profile[1]`", "must be positive"];
+    negative_sine_level: "acceleration_g = 1.0" => "acceleration_g = -1.0",
+        contains ["key `sine.segment[0].acceleration_g`", "the level must be positive, got -1"];
+    negative_sine_displacement: "acceleration_g = 1.0" => "displacement_m = -1e-3",
+        contains ["key `sine.segment[0].displacement_m`"];
+    segment_with_both_levels: "acceleration_g = 1.0" => "acceleration_g = 1.0\ndisplacement_m = 1e-3",
+        contains ["give exactly one of `displacement_m` or `acceleration_g`"];
+    segment_with_a_backwards_band: "to_hz = 1000.0" => "to_hz = 5.0",
+        contains ["key `sine.segment[0].to_hz`", "10 Hz to 5 Hz"];
+    response_point_naming_a_missing_node: "name = \"mass\"\nnode = 2" => "name = \"mass\"\nnode = 7",
+        contains ["key `response[0].node`", "response point `mass` names node 7, which is not defined"];
+    q_zero: "q = 10.0" => "q = 0.0", contains ["key `damping.q`", "must"];
+    q_negative: "q = 10.0" => "q = -10.0", contains ["key `damping.q`", "must"];
+    zeta_zero: "q = 10.0" => "zeta = 0.0", contains ["key `damping.zeta`", "must"];
+    zeta_negative: "q = 10.0" => "zeta = -0.02", contains ["key `damping.zeta`", "must"];
+    damping_table_with_a_zero: "q = 10.0" => "table = [[10.0, 0.02], [100.0, 0.0]]",
+        contains ["key `damping.table[1]`", "must"];
+    two_damping_forms: "q = 10.0" => "q = 10.0\nzeta = 0.05",
+        contains ["exactly one of `q`, `zeta` or `table`"];
+    unknown_damping_key: "[damping]" => "[damping]\nqq = 3.0", contains ["unknown field `qq`"];
+    unknown_axis: "axes = [\"x\"]" => "axes = [\"w\"]",
+        contains ["key `sine.axes[0]`", "unknown axis `w`"];
+    fitting_factor_below_one: "[[response]]" => "[margins]\nfitting_factor = 0.9\n\n[[response]]",
+        contains ["key `margins.fitting_factor`", "at least 1"];
+    preload_loss_above_one: "[[response]]" => "[margins]\npreload_loss = 1.5\n\n[[response]]",
+        contains ["key `margins.preload_loss`"];
 }
 
 #[test]
@@ -89,80 +85,11 @@ fn sine_segment_gap_and_overlap() {
 }
 
 #[test]
-fn segment_with_both_or_no_levels_and_backwards_band() {
-    let e = err_with(
-        "acceleration_g = 1.0",
-        "acceleration_g = 1.0\ndisplacement_m = 1e-3",
-    );
-    assert!(
-        e.contains("give exactly one of `displacement_m` or `acceleration_g`"),
-        "{e}"
-    );
-    let e = err_with("to_hz = 1000.0", "to_hz = 5.0");
-    assert!(
-        e.contains("key `sine.segment[0].to_hz`") && e.contains("10 Hz to 5 Hz"),
-        "{e}"
-    );
-}
-
-#[test]
-fn response_point_naming_a_missing_node() {
-    let e = err_with("name = \"mass\"\nnode = 2", "name = \"mass\"\nnode = 7");
-    assert!(e.contains("key `response[0].node`"), "{e}");
-    assert!(
-        e.contains("response point `mass` names node 7, which is not defined"),
-        "{e}"
-    );
-}
-
-#[test]
-fn damping_not_positive() {
-    for (to, key) in [
-        ("q = 0.0", "damping.q"),
-        ("q = -10.0", "damping.q"),
-        ("zeta = 0.0", "damping.zeta"),
-        ("zeta = -0.02", "damping.zeta"),
-        ("table = [[10.0, 0.02], [100.0, 0.0]]", "damping.table[1]"),
-    ] {
-        let e = err_with("q = 10.0", to);
-        assert!(e.contains(&format!("key `{key}`")), "{to}: {e}");
-        assert!(e.contains("must"), "{to}: {e}");
-    }
-    let e = err_with("q = 10.0", "q = 10.0\nzeta = 0.05");
-    assert!(e.contains("exactly one of `q`, `zeta` or `table`"), "{e}");
-}
-
-#[test]
-fn unknown_keys_axes_and_margins() {
-    let e = err_with("[damping]", "[damping]\nqq = 3.0");
-    assert!(e.contains("unknown field `qq`"), "{e}");
-    let e = err_with("axes = [\"x\"]", "axes = [\"w\"]");
-    assert!(
-        e.contains("key `sine.axes[0]`") && e.contains("unknown axis `w`"),
-        "{e}"
-    );
-    let e = err_with(
-        "[[response]]",
-        "[margins]\nfitting_factor = 0.9\n\n[[response]]",
-    );
-    assert!(
-        e.contains("key `margins.fitting_factor`") && e.contains("at least 1"),
-        "{e}"
-    );
-    let e = err_with(
-        "[[response]]",
-        "[margins]\npreload_loss = 1.5\n\n[[response]]",
-    );
-    assert!(e.contains("key `margins.preload_loss`"), "{e}");
-}
-
-#[test]
 fn cli_reports_bad_input_with_exit_2() {
-    let dir = std::env::temp_dir().join(format!("satqual-resp-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::temp_dir("resp-bad");
     let p = dir.join("gap.toml");
     std::fs::write(&p, base().replacen("acceleration_g = 1.0", "acceleration_g = 1.0\n[[sine.segment]]\nfrom_hz = 1500.0\nto_hz = 2000.0\nacceleration_g = 0.5", 1)).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_satqual"))
+    let out = crate::common::satqual()
         .args(["sine", p.to_str().unwrap(), "--json"])
         .output()
         .unwrap();
@@ -180,13 +107,13 @@ fn cli_reports_bad_input_with_exit_2() {
     let cut = b.find("[random]").unwrap();
     let end = b.find("[[response]]").unwrap();
     std::fs::write(&p2, format!("{}{}", &b[..cut], &b[end..])).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_satqual"))
+    let out = crate::common::satqual()
         .args(["random", p2.to_str().unwrap()])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no [random] section"));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_satqual"))
+    let out = crate::common::satqual()
         .args([
             "sine",
             "test-specs/verification/sdof-base.toml",

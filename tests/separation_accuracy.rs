@@ -1,15 +1,13 @@
-//! Separation accuracy against analytic answers and the paper (issue 6, "Accuracy tests").
+//! Separation accuracy against analytic answers and the paper.
 //! Every reference value names its source and tolerance.
 
-mod common;
-use common::small_stack;
+use satqual::catalogue::generated::small_stack;
 use satqual::separation::{self, Model, RunOptions};
 use satqual::spec::Scene;
 use std::path::Path;
 
 fn paper() -> (Scene, Model) {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("test-specs/paper-stack.toml");
-    let scene = Scene::load(&p).expect("paper-stack.toml loads");
+    let scene = crate::common::load(satqual::catalogue::PAPER_STACK);
     let model = Model::from_scene(&scene).expect("paper-stack.toml builds");
     (scene, model)
 }
@@ -118,7 +116,8 @@ fn two_body_push_uses_the_reduced_mass() {
 fn energy_audit_closes_on_the_reference_scene() {
     let (_, m) = paper();
     let r = separation::run(&m, &RunOptions::default()).unwrap();
-    // Issue 6: residual below 1e-6 of the spring energy (end of run and over sampled steps).
+    // Audit acceptance bound: residual below 1e-6 of the spring energy (end of run and over
+    // sampled steps).
     assert!(r.energy.relative_residual < 1e-6, "{:?}", r.energy);
     assert!(r.energy.max_relative_residual < 1e-6, "{:?}", r.energy);
     // The audit is not vacuous: contacts and friction did dissipate energy.
@@ -133,7 +132,7 @@ fn energy_audit_closes_on_the_reference_scene() {
     assert!(t.free_to_collision + t.detached_to_collision >= t.contact_to_detached);
 }
 
-/// Tolerance convergence (issue 6: final speeds change by < 1e-4 m/s between the default
+/// Tolerance convergence (the integrator's accuracy requirement: final speeds change by < 1e-4 m/s between the default
 /// tolerance and 1/100 of it), on the reference cases where a trajectory converges:
 /// - the full six-satellite reference release with rigid bars (10% spring error, contacts);
 /// - the first release of the reference scene with its flexible bars, over the first 0.3 s
@@ -270,7 +269,7 @@ fn a_spring_coming_back_within_its_stroke_pushes_again() {
     }
     let gap = r.min_clearance_m.expect("both satellites released");
     assert!(gap >= 0.0, "axial gap {gap} m");
-    // The issue's audit bound: residual < 1e-6 of the spring energy.
+    // The audit bound used above: residual < 1e-6 of the spring energy.
     assert!(r.energy.max_relative_residual < 1e-6, "{:?}", r.energy);
 }
 

@@ -1,16 +1,12 @@
 //! `satqual separate` end to end: the JSON contract, CSV output, exit codes.
 
+use crate::common::satqual as bin;
 use std::path::Path;
-use std::process::Command;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_satqual"))
-}
 
 #[test]
 fn separate_prints_the_json_contract_and_writes_histories() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = std::env::temp_dir().join(format!("satqual-sep-{}", std::process::id()));
+    let out = crate::common::temp_dir("sep");
     let o = bin()
         .args(["separate", "test-specs/paper-stack.toml", "--json", "--out"])
         .arg(&out)
@@ -55,8 +51,7 @@ fn bad_scene_exits_2_with_a_located_message() {
     let text = std::fs::read_to_string(root.join("test-specs/paper-stack.toml"))
         .unwrap()
         .replace("restitution = 0.8", "restitution = 1.5");
-    let dir = std::env::temp_dir().join(format!("satqual-sep-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::temp_dir("sep-bad");
     let path = dir.join("bad.toml");
     std::fs::write(&path, text).unwrap();
     let o = bin()

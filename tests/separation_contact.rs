@@ -1,9 +1,8 @@
-//! Contact model checks (issue 6): the effective restitution of a single Lankarani–Nikravesh
+//! Contact model checks: the effective restitution of a single Lankarani–Nikravesh
 //! impact, and the stability stress sweep (contact stiffness, clearance, friction, spring
 //! error). The sweep writes its step counts to `reports/tests/separation-stress.md`.
 
-mod common;
-use common::small_stack;
+use satqual::catalogue::generated::small_stack;
 use satqual::separation::{self, Model, RunOptions};
 use satqual::spec::Scene;
 use std::fmt::Write as _;
@@ -40,8 +39,8 @@ fn restitution(ce: f64) -> f64 {
     -s.final_velocity_m_s[0] / v0
 }
 
-/// The known under-dissipation of LN with the impact speed latched at onset (issue 6 list;
-/// Flores et al., Nonlinear Dyn. 2011, Fig. 5 for the LN model): Ce = 0.5, 0.8, 0.9 give
+/// The known under-dissipation of LN with the impact speed latched at onset (a documented
+/// limit of the model; Flores et al., Nonlinear Dyn. 2011, Fig. 5 for the LN model): Ce = 0.5, 0.8, 0.9 give
 /// 0.725, 0.847, 0.913 (±0.003). Recomputing δ̇⁻ inside the stages would not give these.
 #[test]
 fn ln_effective_restitution_matches_the_latched_model() {

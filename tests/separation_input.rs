@@ -1,4 +1,4 @@
-//! Bad input for the separation model (issue 6): each gives one clear error naming the file,
+//! Bad input for the separation model: each gives one clear error naming the file,
 //! line and key; a run that goes non-finite stops and names the time and body.
 
 use satqual::Error;
@@ -8,10 +8,7 @@ use satqual::spec::Scene;
 use std::path::Path;
 
 fn paper_text() -> String {
-    std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("test-specs/paper-stack.toml"),
-    )
-    .unwrap()
+    std::fs::read_to_string(crate::common::repo_path(satqual::catalogue::PAPER_STACK)).unwrap()
 }
 
 /// Builds the model from `text`; returns the located scene error.

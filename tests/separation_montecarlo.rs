@@ -1,15 +1,12 @@
-//! Monte Carlo determinism (issue 6): the output for a seed is identical whatever the number
+//! Monte Carlo determinism: the output for a seed is identical whatever the number
 //! of threads. `RAYON_NUM_THREADS` only sizes rayon's global pool once per process, so the
 //! test runs the same call inside explicit pools of 1 and 4 threads, which is what that
 //! variable selects.
 
 use satqual::separation::{Model, monte_carlo};
-use satqual::spec::Scene;
-use std::path::Path;
 
 fn model() -> Model {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("test-specs/paper-stack.toml");
-    let scene = Scene::load(&p).unwrap();
+    let scene = crate::common::load(satqual::catalogue::PAPER_STACK);
     let mut m = Model::from_scene(&scene).unwrap();
     // Keep the test fast: rigid bars, the top two releases (the rest stay latched).
     m.bars = None;

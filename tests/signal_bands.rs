@@ -9,10 +9,9 @@ use satqual::signal::{
 };
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::Command;
 
 fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    crate::common::repo_path("")
 }
 
 fn uff_psd() -> (Vec<f64>, Vec<f64>) {
@@ -109,15 +108,7 @@ fn tolerance_bands_match_numpy_and_gate_correctly() {
 }
 
 fn run(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
+    crate::common::run_text(args, None)
 }
 
 #[test]
@@ -138,8 +129,7 @@ fn cli_tolerance_passes_fitted_profile_and_fails_a_doubled_one() {
     let grms = v["channels"][0]["grms"].as_f64().unwrap();
     assert!((grms - 0.5595).abs() < 0.00005, "{grms}");
     // Twice the level (+3 dB): Grms 29% low and lines beyond −6 dB: abort, exit 1.
-    let dir = std::env::temp_dir().join(format!("satqual-sig-tol-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::temp_dir("sig-tol");
     let doubled = dir.join("doubled.csv");
     let rows: String = read_profile(&prof)
         .unwrap()

@@ -9,7 +9,7 @@ use satqual::signal::{
 use std::path::PathBuf;
 
 fn dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/realdata/pyfrf-impact")
+    crate::common::repo_path(satqual::catalogue::logs::IMPACT_DIR)
 }
 
 #[test]

@@ -5,7 +5,6 @@
 use satqual::signal::ingest::{IngestOptions, read_csv};
 use satqual::signal::{WelchOptions, psd_of_file, welch};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// A folder per process and test thread: a thread runs one test at a time, so `cleanup` at the
 /// end of a test removes only that test's files.
@@ -29,19 +28,7 @@ fn write(name: &str, bytes: &[u8]) -> PathBuf {
     p
 }
 
-fn cli(args: &[&str], threads: Option<&str>) -> (i32, String, String) {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_satqual"));
-    c.args(args);
-    if let Some(t) = threads {
-        c.env("RAYON_NUM_THREADS", t);
-    }
-    let o = c.output().unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
+use crate::common::run_text as cli;
 
 /// A uniform CSV log: time + channels of deterministic pseudo-random data.
 fn uniform_csv(n: usize, channels: &[&str]) -> String {

@@ -1,6 +1,6 @@
 //! Property tests over the CSV and UFF58 readers: whatever the bytes, they return a value or an
 //! error, never panic; valid logs round-trip exactly. Case counts are modest so the suite stays
-//! fast; a longer run is `PROPTEST_CASES=20000 cargo test --release --test signal_proptest`.
+//! fast; a longer run is `PROPTEST_CASES=20000 cargo test --release --test integration signal_proptest`.
 
 use proptest::prelude::*;
 use satqual::signal::ingest::{IngestOptions, read_csv};

@@ -5,17 +5,15 @@
 
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::Command;
 
 fn file() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("data/realdata/usc-shaker-beam/data_set_1_3200Hz.csv")
+    crate::common::repo_path(satqual::catalogue::logs::SHAKER_BEAM)
 }
 
 #[test]
 fn shaker_beam_psd_peaks_rms_and_outputs() {
-    let out = std::env::temp_dir().join(format!("satqual-sig-psdcli-{}", std::process::id()));
-    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
+    let out = crate::common::temp_dir("sig-psdcli");
+    let o = crate::common::satqual()
         .args([
             "psd",
             file().to_str().unwrap(),
@@ -80,8 +78,8 @@ fn shaker_beam_psd_peaks_rms_and_outputs() {
 
 #[test]
 fn frf_cli_writes_curves_and_plots() {
-    let out = std::env::temp_dir().join(format!("satqual-sig-frfcli-{}", std::process::id()));
-    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
+    let out = crate::common::temp_dir("sig-frfcli");
+    let o = crate::common::satqual()
         .args([
             "frf",
             file().to_str().unwrap(),

@@ -5,17 +5,12 @@
 //! Tolerances: an intact mode's frequency must come back within 0.5% (4096-point Welch,
 //! 0.25 Hz lines, parabolic interpolation); the 6% drop must be reported as −6% ± 0.5%.
 
-use rand::{RngExt, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn gauss(rng: &mut ChaCha8Rng) -> f64 {
-    let u1: f64 = rng.random::<f64>().max(1e-300);
-    let u2: f64 = rng.random::<f64>();
-    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-}
+use crate::common::gauss;
 
 /// Writes `time_s,force,accel_g` for random force through the modes `freqs`.
 fn write_signature(path: &Path, freqs: &[f64], seed: u64) {
@@ -52,10 +47,7 @@ fn write_signature(path: &Path, freqs: &[f64], seed: u64) {
 }
 
 fn run(args: &[&str]) -> (i32, Value, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_satqual"))
-        .args(args)
-        .output()
-        .unwrap();
+    let o = crate::common::run(args, None);
     let v = serde_json::from_slice(&o.stdout).unwrap_or(Value::Null);
     (
         o.status.code().unwrap_or(-1),
@@ -65,9 +57,7 @@ fn run(args: &[&str]) -> (i32, Value, String) {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("satqual-sig-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::common::temp_dir(&format!("sig-{name}"))
 }
 
 #[test]

@@ -5,6 +5,7 @@
 //!   data/realdata/hrshm-pcb-shock (see its SOURCE.md), 1e-6 relative to the maximax;
 //! - closed forms: the residual spectrum of a half-sine and the resonant steady-state gain.
 
+use crate::common::{repo_path, satqual, temp_dir};
 use satqual::signal::ingest::IngestOptions;
 use satqual::signal::srs::{
     Offset, SpecTolerance, SrsOptions, SrsPoint, check_against_spec, natural_frequencies,
@@ -12,15 +13,9 @@ use satqual::signal::srs::{
 };
 use serde_json::Value;
 use std::f64::consts::PI;
-use std::path::PathBuf;
-use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn refs() -> Value {
-    let text = std::fs::read_to_string(root().join("data/signal-refs/srs_refs.json")).unwrap();
+    let text = std::fs::read_to_string(repo_path("data/signal-refs/srs_refs.json")).unwrap();
     serde_json::from_str(&text).unwrap()
 }
 
@@ -96,7 +91,7 @@ fn hrshm() -> satqual::signal::LogSrs {
         per_octave: 12,
         offset: Offset::None,
     };
-    let path = root().join("data/realdata/hrshm-pcb-shock/acc_base_a0_first5ms.csv");
+    let path = repo_path("data/realdata/hrshm-pcb-shock/acc_base_a0_first5ms.csv");
     srs_of_file(&path, &IngestOptions::default(), &opts).unwrap()
 }
 
@@ -237,7 +232,7 @@ fn spec_check_counts_points_outside_the_limits() {
 
 #[test]
 fn bad_input_is_a_clear_error() {
-    let path = root().join("data/realdata/hrshm-pcb-shock/acc_base_a0_first5ms.csv");
+    let path = repo_path("data/realdata/hrshm-pcb-shock/acc_base_a0_first5ms.csv");
     // The record starts on the rising edge of the shock: no pre-shock level.
     let opts = SrsOptions {
         fmin_hz: 100.0,
@@ -273,12 +268,11 @@ fn bad_input_is_a_clear_error() {
 
 #[test]
 fn cli_writes_json_csv_and_svg_and_gates_on_the_spec() {
-    let dir = std::env::temp_dir().join(format!("satqual-srs-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("srs-cli");
     // A specification 1000 g flat from 200 Hz to 10 kHz: the record's SRS is far below it.
     let spec = dir.join("spec.toml");
     std::fs::write(&spec, "points = [[200.0, 1000.0], [10000.0, 1000.0]]\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_satqual"))
+    let out = satqual()
         .args([
             "srs",
             "data/realdata/hrshm-pcb-shock/acc_base_a0_first5ms.csv",
@@ -290,7 +284,6 @@ fn cli_writes_json_csv_and_svg_and_gates_on_the_spec() {
         .arg(&spec)
         .arg("--out")
         .arg(&dir)
-        .current_dir(root())
         .output()
         .unwrap();
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();

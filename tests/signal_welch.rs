@@ -1,6 +1,7 @@
 //! Welch PSD, CSD and coherence against scipy.signal on the same data and parameters.
 //! Reference: data/signal-refs/welch_refs.json, made by `python3 data/signal-refs/make_refs.py`
-//! (scipy 1.17). Tolerance: 1e-9 relative per line (issue 5), on every line whose reference is
+//! (scipy 1.17). Tolerance: 1e-9 relative per line (the acceptance
+//! limit against scipy), on every line whose reference is
 //! above 1e-12 of the spectrum maximum; lines below that are rounding residue (e.g. the DC line
 //! after mean removal, ~1e-30) and are checked in absolute terms against 1e-12·max instead.
 

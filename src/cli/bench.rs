@@ -1,8 +1,10 @@
 //! `satqual bench WHAT`: work-precision tables (run time against error), written as JSON and
-//! Markdown to `reports/bench/`. Timings are measured here, never asserted in tests.
+//! Markdown to `reports/bench/` by the library's `bench` module. With `--json` the table's
+//! JSON also goes to stdout (and the Markdown to stderr).
 
-use super::Outcome;
+use super::{Outcome, Printer};
 use satqual::Error;
+use std::io::Write;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -12,15 +14,24 @@ pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "reports/bench")]
     pub out: PathBuf,
+    /// Print the machine-readable result on stdout (the table goes to stderr).
+    #[arg(long)]
+    pub json: bool,
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
-    match args.what.as_str() {
-        "fem" => super::bench_fem::run(&args.out).map(|_| Outcome::Pass),
-        "modal" => super::bench_modal::run(&args.out).map(|_| Outcome::Pass),
-        "separation" => super::bench_separation::run(&args.out),
-        "response" => super::bench_response::run(&args.out).map(|_| Outcome::Pass),
-        "psd" => super::bench_psd::run(&args.out),
-        other => Err(Error::Other(format!("unknown benchmark `{other}`"))),
+    let table = satqual::bench::run(&args.what, &args.out, super::modal::export)?;
+    let printer = Printer::new(args.json);
+    printer.human(&table.markdown);
+    printer.human(&format!(
+        "wrote {}",
+        args.out
+            .join(format!("{}.{{json,md}}", table.name))
+            .display()
+    ));
+    if args.json {
+        // Printed as written to the file: the bench JSON keeps its own field order.
+        let _ = writeln!(std::io::stdout(), "{}", table.json);
     }
+    Ok(Outcome::Pass)
 }

@@ -7,11 +7,6 @@ use satqual::Error;
 use std::io::Write;
 
 mod bench;
-mod bench_fem;
-mod bench_modal;
-mod bench_psd;
-mod bench_response;
-mod bench_separation;
 mod expand;
 mod frf;
 mod modal;

@@ -1,48 +1,116 @@
-//! Scene fixtures shared by the separation tests: a small stack written out as TOML, so that
-//! every test parses it through the same loader as a user's scene.
+//! Helpers shared by the test modules: running the `satqual` binary, fresh temporary folders,
+//! loading scenes, and locating a line in scene text. The problems themselves come from
+//! `satqual::catalogue`.
 
-/// A small stack of `satellites` 150 kg satellites on steel bars of `bar_length_m`, with
-/// rigid bars and 700 N/m springs of 0.08 m stroke. `separation_keys` go into the
-/// `[separation]` table itself; `tables` (e.g. `[separation.contact]`) are appended at the end.
-pub fn small_stack(
-    satellites: usize,
-    bar_length_m: f64,
-    separation_keys: &str,
-    tables: &str,
-) -> String {
-    format!(
-        r#"
-[[material]]
-name = "steel"
-youngs_modulus_pa = 210e9
-poisson_ratio = 0.3
-density_kg_m3 = 7850
+use satqual::spec::Scene;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
-[stack]
-satellites = {satellites}
-satellite_mass_kg = 150.0
-satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
-satellite_pitch_m = 0.5
-base_height_m = 0.2
-column_spacing_m = [1.0, 0.8]
-column_outer_diameter_m = 0.04
-column_inner_diameter_m = 0.021
-column_material = "steel"
-bar_diameter_m = 0.02
-bar_length_m = {bar_length_m}
-bar_material = "steel"
-preload_total_n = 45000.0
-[stack.interface]
-axial_stiffness_n_m = 1e8
-shear_stiffness_n_m = 1e8
-rotational_stiffness_n_m_rad = 1e6
-torsional_stiffness_n_m_rad = 1e6
+/// The `satqual` binary built with the tests, run from the repository root.
+pub fn satqual() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_satqual"));
+    c.current_dir(env!("CARGO_MANIFEST_DIR"));
+    c
+}
 
-[separation]
-bar_modes = "rigid"
-{separation_keys}[separation.spring]
-stiffness_n_m = 700.0
-stroke_m = 0.08
-{tables}"#
+/// Runs `satqual args`, with `RAYON_NUM_THREADS` set when `threads` is given.
+pub fn run(args: &[&str], threads: Option<&str>) -> Output {
+    let mut c = satqual();
+    c.args(args);
+    if let Some(t) = threads {
+        c.env("RAYON_NUM_THREADS", t);
+    }
+    c.output().expect("run satqual")
+}
+
+/// Runs `satqual args` and returns (exit code, stdout, stderr); −1 when killed by a signal.
+pub fn run_text(args: &[&str], threads: Option<&str>) -> (i32, String, String) {
+    let o = run(args, threads);
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
     )
+}
+
+/// An empty folder of its own for the test called `name`. All tests share one process, so the
+/// name, not the process id, keeps two tests apart.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("satqual-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A repository file, whatever the working directory.
+pub fn repo_path(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+}
+
+/// Loads a scene; panics with its path and the error.
+pub fn load(path: &str) -> Scene {
+    Scene::load(Path::new(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+/// Parses generated scene text; panics with the error.
+pub fn parse(text: &str) -> Scene {
+    Scene::parse(Path::new("generated.toml"), text).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Parses `base` with its first `from` replaced by `to`, as `bad.toml`; returns the error
+/// text. Panics if `base` lacks `from` or the changed scene is accepted.
+pub fn scene_error(base: &str, from: &str, to: &str) -> String {
+    assert!(base.contains(from), "fixture does not contain {from:?}");
+    let text = base.replacen(from, to, 1);
+    match Scene::parse(Path::new("bad.toml"), &text) {
+        Ok(_) => panic!("scene with {to:?} was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// The 1-based number of the first line of `text` containing `needle`.
+pub fn line_of(text: &str, needle: &str) -> usize {
+    text.lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("{needle:?} not in the text"))
+        + 1
+}
+
+/// |a − b| / |b|.
+pub fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// A standard normal sample by Box–Muller: rand's core crate has no normal distribution.
+pub fn gauss(rng: &mut rand_chacha::ChaCha8Rng) -> f64 {
+    use rand::RngExt;
+    let u1: f64 = rng.random::<f64>().max(1e-300);
+    let u2: f64 = rng.random::<f64>();
+    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+}
+
+/// Bad-input cases as a table, one `#[test]` per row. `error(from, to)` returns the error of a
+/// scene with one substitution (see [`scene_error`]); the error must contain every needle and,
+/// where `at` gives a line number, start with `bad.toml:LINE:` so that the user finds the key
+/// (`starting` gives the expected start itself).
+macro_rules! refused_input_cases {
+    (error: $error:expr; $($name:ident: $from:expr => $to:expr, contains $needles:expr
+        $(, at $line:expr)? $(, starting $prefix:expr)?;)+) => {
+        $(
+            #[test]
+            fn $name() {
+                let e: String = $error($from, $to);
+                for needle in $needles {
+                    assert!(e.contains(needle), "{needle:?} not in: {e}");
+                }
+                $(
+                    let at = format!("bad.toml:{}:", $line);
+                    assert!(e.starts_with(&at), "expected to start with {at}: {e}");
+                )?
+                $(
+                    assert!(e.starts_with($prefix), "expected to start with {}: {e}", $prefix);
+                )?
+            }
+        )+
+    };
 }

@@ -9,16 +9,14 @@
 //! any tolerance can achieve); and the convergence of the exit-speed distribution of a seeded
 //! Monte Carlo with the tolerance. Writes `reports/bench/separation.{json,md}`.
 
-use super::Outcome;
-use satqual::Error;
-use satqual::report::write_atomic;
-use satqual::separation::{self, Model, RunOptions, SeparationResult};
+use crate::Error;
+use crate::separation::{self, Model, RunOptions, SeparationResult};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-const SCENE: &str = "test-specs/paper-stack.toml";
+const SCENE: &str = crate::catalogue::PAPER_STACK;
 
 #[derive(Serialize)]
 struct Row {
@@ -143,8 +141,9 @@ fn timed(model: &Model) -> Result<(SeparationResult, f64), Error> {
     Ok((out.expect("ran once"), best))
 }
 
-pub fn run(out: &Path) -> Result<Outcome, Error> {
-    let scene = satqual::spec::Scene::load(Path::new(SCENE))?;
+/// The table as (JSON, Markdown).
+pub fn run() -> Result<(String, String), Error> {
+    let scene = crate::spec::Scene::load(Path::new(SCENE))?;
     let base = Model::from_scene(&scene)?;
     let default_tol = base.tolerance;
     let ref_tol = 1e-12;
@@ -333,12 +332,7 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         growth,
         monte_carlo_convergence,
     };
-    let json = serde_json::to_string_pretty(&bench).map_err(|e| Error::Other(e.to_string()))?;
-    write_atomic(&out.join("separation.json"), json.as_bytes())?;
-    let md = markdown(&bench);
-    write_atomic(&out.join("separation.md"), md.as_bytes())?;
-    println!("{md}");
-    Ok(Outcome::Pass)
+    Ok((super::to_json(&bench)?, markdown(&bench)))
 }
 
 /// The reference scene with only the first interface released; with `horizon`, stopped
@@ -431,7 +425,7 @@ fn mc_convergence(base: &Model, runs: usize, seed: u64) -> Result<McConvergence,
     })
 }
 
-fn ideal_stiffness(scene: &satqual::spec::Scene) -> f64 {
+fn ideal_stiffness(scene: &crate::spec::Scene) -> f64 {
     scene
         .file
         .separation

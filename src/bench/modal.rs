@@ -10,11 +10,12 @@
 //! Peak memory is the process's VmHWM after resetting it (`/proc/self/clear_refs` ← 5) before
 //! each solve. Timings are wall-clock, one run each: a benchmark, never a test.
 
-use satqual::Error;
-use satqual::error::ModalError;
-use satqual::fem::FeModel;
-use satqual::modal::{ModalOptions, analyze};
-use satqual::spec::{Scene, SolverChoice};
+use crate::Error;
+use crate::catalogue::{self, generated::FrameTower};
+use crate::error::ModalError;
+use crate::fem::FeModel;
+use crate::modal::{ModalOptions, analyze};
+use crate::spec::{Scene, SolverChoice};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -25,7 +26,7 @@ const SATELLITES: [usize; 4] = [6, 20, 60, 120];
 /// The tolerance both solvers are given: eigsh's `tol` (‖OP·y − θ·y‖ ≤ tol·|θ|, ARPACK's
 /// criterion) and the sparse module's `RESIDUAL_TOL` (the same bound scaled to a relative
 /// eigenvalue error, see `modal::sparse`).
-const TOL: f64 = satqual::modal::sparse::RESIDUAL_TOL;
+const TOL: f64 = crate::modal::sparse::RESIDUAL_TOL;
 /// eigsh is stopped after this long: the ratio is then an upper bound.
 const EIGSH_LIMIT_S: f64 = 300.0;
 /// Largest stack also solved densely, for the crossover.
@@ -94,7 +95,8 @@ struct Report {
     auto_sparse_dofs: usize,
 }
 
-pub fn run(out: &Path) -> Result<(), Error> {
+/// The table as (JSON, Markdown); the matrices for eigsh go to `out/modal-work`.
+pub fn run(out: &Path, export: super::MatrixExport) -> Result<(String, String), Error> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let work = out.join("modal-work");
     std::fs::create_dir_all(&work).map_err(|e| Error::io(&work, e))?;
@@ -103,7 +105,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
     let (model_note, scenes) = stack_scenes()?;
     let mut stacks = Vec::new();
     for (n, text) in scenes {
-        let mut row = bench_stack(&work, n, &text, python.as_deref())?;
+        let mut row = bench_stack(&work, n, &text, python.as_deref(), export)?;
         // A stack beyond its buckling load with open bores (the 120-satellite one, 66 m of
         // bars) is measured with the bars bearing on the bores, and says so.
         if let Some(err) = row
@@ -111,8 +113,8 @@ pub fn run(out: &Path) -> Result<(), Error> {
             .clone()
             .filter(|e| e.starts_with("satqual failed") && e.contains("buckling load"))
         {
-            let closed = with_closed_bores(&text);
-            row = bench_stack(&work, n, &closed, python.as_deref())?;
+            let closed = catalogue::generated::with_closed_bores(&text);
+            row = bench_stack(&work, n, &closed, python.as_deref(), export)?;
             let why = err.trim_start_matches("satqual failed: ");
             row.model_note = Some(format!("bar_bore = \"closed\": with open bores {why}"));
         }
@@ -126,13 +128,9 @@ pub fn run(out: &Path) -> Result<(), Error> {
         tolerance: TOL,
         stacks,
         crossover,
-        auto_sparse_dofs: satqual::modal::AUTO_SPARSE_DOFS,
+        auto_sparse_dofs: crate::modal::AUTO_SPARSE_DOFS,
     };
-    let json = serde_json::to_string_pretty(&report).map_err(|e| Error::Other(e.to_string()))?;
-    satqual::report::write_atomic(&out.join("modal.json"), json.as_bytes())?;
-    satqual::report::write_atomic(&out.join("modal.md"), markdown(&report).as_bytes())?;
-    eprintln!("wrote {}", out.join("modal.{json,md}").display());
-    Ok(())
+    Ok((super::to_json(&report)?, markdown(&report)))
 }
 
 /// One stack of the table: the sparse solve (timed), the dense one up to `DENSE_MAX_DOFS`, and
@@ -142,10 +140,11 @@ fn bench_stack(
     n: usize,
     text: &str,
     python: Option<&Path>,
+    export: super::MatrixExport,
 ) -> Result<StackRow, Error> {
     let path = work.join(format!("stack-{n}.toml"));
-    satqual::report::write_atomic(&path, text.as_bytes())?;
-    let model = match Scene::load(&path).and_then(|sc| satqual::pipeline::fe_model(&sc)) {
+    crate::report::write_atomic(&path, text.as_bytes())?;
+    let model = match Scene::load(&path).and_then(|sc| crate::pipeline::fe_model(&sc)) {
         Ok(m) => m,
         Err(e) => {
             eprintln!("stack {n}: {e}");
@@ -231,7 +230,7 @@ fn bench_stack(
         None => row.eigsh_note = Some("python3 with scipy not found: not run".into()),
         Some(py) => {
             let dir = work.join(format!("stack-{n}-matrices"));
-            super::modal::export(&dir, &model, &sys.reduction, &sys)?;
+            export(&dir, &model, &sys.reduction, &sys)?;
             let kfile = if r.prestress.is_some() {
                 "KKG.mtx"
             } else {
@@ -257,20 +256,6 @@ fn bench_stack(
         }
     }
     Ok(row)
-}
-
-/// The same scene with the guide bars bearing on the column bores (`bar_bore = "closed"`).
-fn with_closed_bores(text: &str) -> String {
-    let mut s = String::with_capacity(text.len() + 32);
-    for line in text.lines() {
-        let _ = writeln!(s, "{line}");
-        if line.trim_start().starts_with("satellites ")
-            || line.trim_start().starts_with("satellites=")
-        {
-            let _ = writeln!(s, "bar_bore = \"closed\"");
-        }
-    }
-    s
 }
 
 fn markdown(r: &Report) -> String {
@@ -457,11 +442,11 @@ print(json.dumps({{"time": t, "freq": f.tolist()}}))
 
 /// The stack scenes: the paper stack with `satellites = N`.
 fn stack_scenes() -> Result<(String, Vec<(usize, String)>), Error> {
-    let path = Path::new("test-specs/paper-stack.toml");
+    let path = Path::new(catalogue::PAPER_STACK);
     let base = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let scenes = SATELLITES
         .iter()
-        .map(|&n| (n, with_satellites(&base, n)))
+        .map(|&n| (n, catalogue::generated::stack_with_satellites(&base, n)))
         .collect();
     Ok((
         "test-specs/paper-stack.toml with `satellites = N` (guide bars lengthened by one pitch per added satellite)".into(),
@@ -469,44 +454,11 @@ fn stack_scenes() -> Result<(String, Vec<(usize, String)>), Error> {
     ))
 }
 
-/// `satellites = N`, and the guide bars one pitch longer per added satellite.
-fn with_satellites(base: &str, n: usize) -> String {
-    let num = |line: &str| -> Option<f64> {
-        line.split('=')
-            .nth(1)?
-            .split('#')
-            .next()?
-            .trim()
-            .parse()
-            .ok()
-    };
-    let get = |key: &str| {
-        base.lines()
-            .find(|l| l.trim_start().starts_with(key))
-            .and_then(num)
-    };
-    let n0 = get("satellites").unwrap_or(6.0);
-    let pitch = get("satellite_pitch_m").unwrap_or(0.6);
-    let mut s = String::with_capacity(base.len());
-    for line in base.lines() {
-        let t = line.trim_start();
-        if t.starts_with("satellites ") || t.starts_with("satellites=") {
-            let _ = writeln!(s, "satellites = {n}");
-        } else if t.starts_with("bar_length_m") {
-            let l = num(line).unwrap_or(3.85) + (n as f64 - n0) * pitch;
-            let _ = writeln!(s, "bar_length_m = {l}");
-        } else {
-            let _ = writeln!(s, "{line}");
-        }
-    }
-    s
-}
-
 /// Dense against sparse on generated frame towers of growing size.
 fn crossover() -> Result<Vec<CrossRow>, Error> {
     let mut rows = Vec::new();
     for levels in [2usize, 4, 6, 9] {
-        let text = frame(4, 3, levels);
+        let text = FrameTower::clamped(4, 3, levels).scene();
         let scene = Scene::parse(Path::new("frame.toml"), &text)?;
         let model = FeModel::from_scene(&scene.model)?;
         let n = model.reduction()?.n_red;
@@ -540,68 +492,4 @@ fn crossover() -> Result<Vec<CrossRow>, Error> {
         });
     }
     Ok(rows)
-}
-
-/// A frame tower: `levels` floors of an nx × ny grid of steel beams (two elements each),
-/// tube columns, a 30 kg offset mass on every top node, diagonal springs, clamped base.
-fn frame(nx: usize, ny: usize, levels: usize) -> String {
-    let mut s = String::from(
-        "[[material]]\nname = \"steel\"\nyoungs_modulus_pa = 210e9\npoisson_ratio = 0.3\ndensity_kg_m3 = 7850\n\
-         [[section]]\nname = \"tube\"\nshape = \"tube\"\nouter_diameter_m = 0.06\ninner_diameter_m = 0.05\n",
-    );
-    let id = |i: usize, j: usize, k: usize| 1 + i + nx * (j + ny * k);
-    for k in 0..=levels {
-        for j in 0..ny {
-            for i in 0..nx {
-                let _ = writeln!(
-                    s,
-                    "[[node]]\nid = {}\nposition_m = [{}, {}, {}]",
-                    id(i, j, k),
-                    1.1 * i as f64,
-                    0.8 * j as f64,
-                    0.7 * k as f64
-                );
-            }
-        }
-    }
-    for k in 0..=levels {
-        for j in 0..ny {
-            for i in 0..nx {
-                let mut beam = |a: usize, b: usize| {
-                    let _ = writeln!(
-                        s,
-                        "[[beam]]\nnodes = [{a}, {b}]\nsection = \"tube\"\nmaterial = \"steel\"\nelements = 2"
-                    );
-                };
-                if k > 0 && i + 1 < nx {
-                    beam(id(i, j, k), id(i + 1, j, k));
-                }
-                if k > 0 && j + 1 < ny {
-                    beam(id(i, j, k), id(i, j + 1, k));
-                }
-                if k < levels {
-                    beam(id(i, j, k), id(i, j, k + 1));
-                }
-                if k < levels && i + 1 < nx && j + 1 < ny && (i + j + k) % 2 == 0 {
-                    let _ = writeln!(
-                        s,
-                        "[[spring]]\nnodes = [{}, {}]\nstiffness = [2e6, 3e6, 1e6, 1e4, 2e4, 5e3]",
-                        id(i, j, k),
-                        id(i + 1, j + 1, k + 1)
-                    );
-                }
-                if k == levels {
-                    let _ = writeln!(
-                        s,
-                        "[[mass]]\nnode = {}\nmass_kg = 30.0\ninertia_kg_m2 = [0.5, 0.7, 0.9]\noffset_m = [0.05, -0.03, 0.1]",
-                        id(i, j, k)
-                    );
-                }
-                if k == 0 {
-                    let _ = writeln!(s, "[[support]]\nnode = {}\ndofs = \"123456\"", id(i, j, k));
-                }
-            }
-        }
-    }
-    s
 }

@@ -8,11 +8,9 @@
 //! would need ~5 GB, and pandas would hold the whole 3 GB file's frame); 1e8 is timed once.
 //! Nothing is installed: without python3/scipy/pandas the peer columns say so.
 
-use super::Outcome;
-use satqual::Error;
-use satqual::report::write_atomic;
-use satqual::signal::ingest::{IngestOptions, stream_csv};
-use satqual::signal::{Detrend, WelchOptions, Window, psd_of_file, welch};
+use crate::Error;
+use crate::signal::ingest::{IngestOptions, stream_csv};
+use crate::signal::{Detrend, WelchOptions, Window, psd_of_file, welch};
 use serde_json::{Value, json};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -132,7 +130,8 @@ fn have_python() -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
-pub fn run(out: &Path) -> Result<Outcome, Error> {
+/// The table as (JSON, Markdown).
+pub fn run() -> Result<(String, String), Error> {
     let opts = WelchOptions {
         nperseg: 8192,
         overlap: 0.5,
@@ -294,16 +293,7 @@ pub fn run(out: &Path) -> Result<Outcome, Error> {
         "rows": rows,
     });
     let md = markdown(&report);
-    write_atomic(
-        &out.join("psd.json"),
-        serde_json::to_string_pretty(&report)
-            .map_err(|e| Error::Other(e.to_string()))?
-            .as_bytes(),
-    )?;
-    write_atomic(&out.join("psd.md"), md.as_bytes())?;
-    println!("{md}");
-    eprintln!("wrote {}/psd.json and psd.md", out.display());
-    Ok(Outcome::Pass)
+    Ok((super::to_json(&report)?, md))
 }
 
 fn fmt_rate(v: &Value) -> String {

@@ -1,10 +1,11 @@
 //! `satqual bench fem`: mesh density against frequency error and solve time, for the
 //! cantilever (analytic βL roots) and NAFEMS FV5 (published targets), both beam theories.
 
-use satqual::Error;
-use satqual::fem::FeModel;
-use satqual::modal::{ModalOptions, analyze};
-use satqual::spec::Scene;
+use crate::Error;
+use crate::catalogue;
+use crate::fem::FeModel;
+use crate::modal::{ModalOptions, analyze};
+use crate::spec::Scene;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -21,33 +22,22 @@ struct Row {
     error_pct: Vec<f64>,
 }
 
-fn cantilever_ref() -> Vec<f64> {
-    let (e, rho, a, i) = (210e9, 7850.0, 4e-4, 0.02f64.powi(4) / 12.0);
-    [
-        1.875104068711961f64,
-        4.694091132974175,
-        7.854757438237613,
-        10.995540734875467,
-    ]
-    .iter()
-    .map(|bl| bl * bl / (2.0 * std::f64::consts::PI) * (e * i / (rho * a)).sqrt())
-    .collect()
-}
-
-pub fn run(out: &Path) -> Result<(), Error> {
+/// The table as (JSON, Markdown).
+pub fn run() -> Result<(String, String), Error> {
+    let fv5 = catalogue::analytic::NAFEMS_FV5_HZ;
     let problems: [(&str, &str, Vec<f64>, Vec<usize>); 2] = [
         // cantilever: modes come in pairs; compare modes 1, 3, 5, 7.
         (
             "cantilever",
-            "test-specs/verification/cantilever.toml",
-            cantilever_ref(),
+            catalogue::CANTILEVER,
+            catalogue::analytic::cantilever_frequencies_hz().to_vec(),
             vec![0, 2, 4, 6],
         ),
-        // FV5: 42.65 (x2), 71.20, 125.00, 148.15 -> modes 1, 3, 4, 5.
+        // FV5: the first four distinct targets, modes 1, 3, 4, 5.
         (
             "nafems-fv5",
-            "test-specs/verification/nafems-fv5.toml",
-            vec![42.65, 71.20, 125.00, 148.15],
+            catalogue::NAFEMS_FV5,
+            vec![fv5[0], fv5[2], fv5[3], fv5[4]],
             vec![0, 2, 3, 4],
         ),
     ];
@@ -118,9 +108,5 @@ pub fn run(out: &Path) -> Result<(), Error> {
             r.error_pct[3]
         );
     }
-    let json = serde_json::to_string_pretty(&rows).map_err(|e| Error::Other(e.to_string()))?;
-    satqual::report::write_atomic(&out.join("fem.json"), json.as_bytes())?;
-    satqual::report::write_atomic(&out.join("fem.md"), md.as_bytes())?;
-    eprintln!("{md}");
-    Ok(())
+    Ok((super::to_json(&rows)?, md))
 }

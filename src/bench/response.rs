@@ -7,10 +7,10 @@
 //! - modal truncation: error of modal superposition against the direct complex solution of
 //!   (K − ω²M + iωC)·x = −p, against the number of modes, with and without the residual vector.
 
-use satqual::Error;
-use satqual::response::grid::{self, GridSpec};
-use satqual::response::{Prepared, SineOptions};
-use satqual::spec::Scene;
+use crate::Error;
+use crate::response::grid::{self, GridSpec};
+use crate::response::{Prepared, SineOptions};
+use crate::spec::Scene;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -65,7 +65,7 @@ fn load(path: &str) -> Result<Scene, Error> {
 
 /// Grms of the given point rows on a grid (piecewise power-law rule).
 fn grms(
-    frf: &satqual::response::ModalFrf,
+    frf: &crate::response::ModalFrf,
     rows: &[usize],
     f: &[f64],
     table: &[(f64, f64)],
@@ -74,7 +74,7 @@ fn grms(
     let mut h = Vec::new();
     for (k, &x) in f.iter().enumerate() {
         frf.eval_rows(x, rows, &mut h);
-        let s = satqual::units::loglog_interp(table, x);
+        let s = crate::units::loglog_interp(table, x);
         for (r, v) in h.iter().enumerate() {
             psd[r][k] = v.norm_sqr() * s;
         }
@@ -90,11 +90,12 @@ fn max_rel(a: &[f64], b: &[f64]) -> f64 {
         * 100.0
 }
 
-pub fn run(out: &Path) -> Result<(), Error> {
+/// The table as (JSON, Markdown).
+pub fn run() -> Result<(String, String), Error> {
     // ---- random: paper stack, x axis, at the scene's Q = 15 and at Q = 100 ----
-    let rs = "test-specs/paper-stack.toml";
+    let rs = crate::catalogue::PAPER_STACK;
     let scene = load(rs)?;
-    let (model, sys) = satqual::pipeline::modal(&scene, None, None)?;
+    let (model, sys) = crate::pipeline::modal(&scene, None, None)?;
     let prep = Prepared::new(&scene, &model, &sys)?;
     let spec = scene
         .file
@@ -108,7 +109,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
     for q in [None, Some(100.0)] {
         let mut p = Prepared::new(&scene, &model, &sys)?;
         if let Some(q) = q {
-            p.damping = satqual::spec::analysis::DampingSpec {
+            p.damping = crate::spec::analysis::DampingSpec {
                 q: Some(q),
                 ..Default::default()
             };
@@ -135,7 +136,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
                 tail_ratio: tail,
             };
             let t = Instant::now();
-            let f = satqual::response::random::grid_for(&spec, &basis, g);
+            let f = crate::response::random::grid_for(&spec, &basis, g);
             let v = grms(&frf, &rows, &f, &table);
             let tails = if tail > 1.0 {
                 format!(", tails ×{tail}")
@@ -168,9 +169,9 @@ pub fn run(out: &Path) -> Result<(), Error> {
     }
 
     // ---- sine: shaker-2sat, x axis ----
-    let ss = "test-specs/shaker-2sat.toml";
+    let ss = crate::catalogue::SHAKER_2SAT;
     let s2 = load(ss)?;
-    let (m2, sys2) = satqual::pipeline::modal(&s2, None, None)?;
+    let (m2, sys2) = crate::pipeline::modal(&s2, None, None)?;
     let p2 = Prepared::new(&s2, &m2, &sys2)?;
     let sspec = s2
         .file
@@ -183,7 +184,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
         halfwidth: 4.0,
         tail_ratio: 0.0,
     };
-    let r = satqual::response::sine::run(
+    let r = crate::response::sine::run(
         &p2,
         &sspec,
         0,
@@ -253,7 +254,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
     for axis in [0usize, 2] {
         let t = Instant::now();
         let d = prep.direct_frf(axis)?;
-        let hd = satqual::response::frf::on_grid(&d, &fgrid);
+        let hd = crate::response::frf::on_grid(&d, &fgrid);
         direct_ms += ms(t);
         // (row, class): class 0 = forces (N), 1 = moments (N·m).
         let load_rows: Vec<(usize, usize)> = prep
@@ -328,7 +329,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
                 let t = Instant::now();
                 let b = prep.basis(axis, Some(n), residual)?;
                 let mf = prep.modal_frf(&b);
-                let hm = satqual::response::frf::on_grid(&mf, &fgrid);
+                let hm = crate::response::frf::on_grid(&mf, &fgrid);
                 let el = ms(t);
                 let mut pe = 0.0f64;
                 let mut le = 0.0f64;
@@ -344,7 +345,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
                     }
                 }
                 truncation.push(TruncRow {
-                    axis: satqual::response::axis_name(axis).into(),
+                    axis: crate::response::axis_name(axis).into(),
                     modes: b.n_modes,
                     highest_mode_hz: b.frequency_hz(b.n_modes.saturating_sub(1)),
                     residual_vector: b.len() > b.n_modes,
@@ -368,12 +369,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
         direct_time_ms: direct_ms,
         truncation,
     };
-    let json = serde_json::to_string_pretty(&bench).map_err(|e| Error::Other(e.to_string()))?;
-    satqual::report::write_atomic(&out.join("response.json"), json.as_bytes())?;
-    let md = markdown(&bench);
-    satqual::report::write_atomic(&out.join("response.md"), md.as_bytes())?;
-    eprintln!("{md}");
-    Ok(())
+    Ok((super::to_json(&bench)?, markdown(&bench)))
 }
 
 fn markdown(b: &Bench) -> String {

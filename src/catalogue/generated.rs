@@ -1,0 +1,228 @@
+//! Scenes generated from the catalogue's problems: the paper stack with N satellites, the same
+//! with the bars bearing on their bores, frame towers of any size, and a small stack for the
+//! separation model. They are scene text, so tests and benchmarks parse them through the same
+//! loader as a user's scene.
+
+use std::fmt::Write as _;
+
+/// The first number on a `key = value  # comment` line.
+fn value_of(line: &str) -> Option<f64> {
+    line.split('=')
+        .nth(1)?
+        .split('#')
+        .next()?
+        .trim()
+        .parse()
+        .ok()
+}
+
+fn starts_with_key(line: &str, key: &str) -> bool {
+    let t = line.trim_start();
+    t.strip_prefix(key)
+        .is_some_and(|rest| rest.trim_start().starts_with('='))
+}
+
+/// `base` (a `[stack]` scene such as the paper stack) with `satellites = n`, and the guide bars
+/// one satellite pitch longer per added satellite, so that they still reach through the stack.
+pub fn stack_with_satellites(base: &str, n: usize) -> String {
+    let get = |key: &str| {
+        base.lines()
+            .find(|l| starts_with_key(l, key))
+            .and_then(value_of)
+    };
+    let n0 = get("satellites").unwrap_or(6.0);
+    let pitch = get("satellite_pitch_m").unwrap_or(0.6);
+    let mut s = String::with_capacity(base.len());
+    for line in base.lines() {
+        if starts_with_key(line, "satellites") {
+            let _ = writeln!(s, "satellites = {n}");
+        } else if starts_with_key(line, "bar_length_m") {
+            let length = value_of(line).unwrap_or(3.85) + (n as f64 - n0) * pitch;
+            let _ = writeln!(s, "bar_length_m = {length}");
+        } else {
+            let _ = writeln!(s, "{line}");
+        }
+    }
+    s
+}
+
+/// `text` (a `[stack]` scene) with the guide bars bearing on their bores at every satellite
+/// (`bar_bore = "closed"`), which braces a long stack laterally.
+pub fn with_closed_bores(text: &str) -> String {
+    let mut s = String::with_capacity(text.len() + 24);
+    for line in text.lines() {
+        let _ = writeln!(s, "{line}");
+        if starts_with_key(line, "satellites") {
+            let _ = writeln!(s, "bar_bore = \"closed\"");
+        }
+    }
+    s
+}
+
+/// A frame tower: `levels` floors of an `nx` × `ny` grid of steel members, `elements` finite
+/// elements each; tube columns and floor beams in x, rectangular floor beams in y; a point
+/// mass with an offset and its own inertia on every top-floor node; diagonal springs between
+/// neighbouring floors.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameTower {
+    pub nx: usize,
+    pub ny: usize,
+    pub levels: usize,
+    pub elements: usize,
+    /// Free-free (no supports, no springs) instead of clamped at the base.
+    pub free: bool,
+    /// A downward force on every top node, which puts the columns in compression (prestress
+    /// and buckling); 0 for none.
+    pub load_n: f64,
+}
+
+impl FrameTower {
+    /// A clamped, unloaded tower with two elements per member.
+    pub fn clamped(nx: usize, ny: usize, levels: usize) -> FrameTower {
+        FrameTower {
+            nx,
+            ny,
+            levels,
+            elements: 2,
+            free: false,
+            load_n: 0.0,
+        }
+    }
+
+    fn id(&self, i: usize, j: usize, k: usize) -> usize {
+        1 + i + self.nx * (j + self.ny * k)
+    }
+
+    /// The tower as scene text.
+    pub fn scene(&self) -> String {
+        let mut s = String::from(
+            "title = \"generated frame tower\"\n\n[[material]]\nname = \"steel\"\nyoungs_modulus_pa = 210e9\npoisson_ratio = 0.3\ndensity_kg_m3 = 7850\n\n\
+             [[section]]\nname = \"tube\"\nshape = \"tube\"\nouter_diameter_m = 0.06\ninner_diameter_m = 0.05\n\n\
+             [[section]]\nname = \"rect\"\nshape = \"rectangle\"\nwidth_m = 0.04\nheight_m = 0.03\n\n",
+        );
+        self.write_nodes(&mut s);
+        self.write_members(&mut s);
+        self.write_top_and_base(&mut s);
+        s
+    }
+
+    fn write_nodes(&self, s: &mut String) {
+        for k in 0..=self.levels {
+            for j in 0..self.ny {
+                for i in 0..self.nx {
+                    let (x, y, z) = (1.1 * i as f64, 0.8 * j as f64, 0.7 * k as f64);
+                    let id = self.id(i, j, k);
+                    let _ = writeln!(s, "[[node]]\nid = {id}\nposition_m = [{x}, {y}, {z}]\n");
+                }
+            }
+        }
+    }
+
+    fn write_members(&self, s: &mut String) {
+        let beam = |s: &mut String, a: usize, b: usize, section: &str| {
+            let _ = writeln!(
+                s,
+                "[[beam]]\nnodes = [{a}, {b}]\nsection = \"{section}\"\nmaterial = \"steel\"\nelements = {}\n",
+                self.elements
+            );
+        };
+        let (nx, ny, levels) = (self.nx, self.ny, self.levels);
+        for k in 0..=levels {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let here = self.id(i, j, k);
+                    if k > 0 && i + 1 < nx {
+                        beam(s, here, self.id(i + 1, j, k), "tube");
+                    }
+                    if k > 0 && j + 1 < ny {
+                        beam(s, here, self.id(i, j + 1, k), "rect");
+                    }
+                    if k < levels {
+                        beam(s, here, self.id(i, j, k + 1), "tube");
+                    }
+                    // The springs act along global axes between distinct points, so a rigid
+                    // rotation strains them: the free-free tower goes without.
+                    let diagonal = i + 1 < nx && j + 1 < ny && (i + j + k) % 2 == 0;
+                    if !self.free && k < levels && diagonal {
+                        let _ = writeln!(
+                            s,
+                            "[[spring]]\nnodes = [{here}, {}]\nstiffness = [2e6, 3e6, 1e6, 1e4, 2e4, 5e3]\n",
+                            self.id(i + 1, j + 1, k + 1)
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    fn write_top_and_base(&self, s: &mut String) {
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                let top = self.id(i, j, self.levels);
+                let mass_kg = 20.0 + 3.0 * (i + 2 * j) as f64;
+                let _ = writeln!(
+                    s,
+                    "[[mass]]\nnode = {top}\nmass_kg = {mass_kg}\ninertia_kg_m2 = [0.5, 0.7, 0.9]\noffset_m = [0.05, -0.03, 0.1]\n"
+                );
+                if !self.free {
+                    let base = self.id(i, j, 0);
+                    let _ = writeln!(s, "[[support]]\nnode = {base}\ndofs = \"123456\"\n");
+                }
+                if self.load_n != 0.0 {
+                    let _ = writeln!(
+                        s,
+                        "[[static_load]]\nnode = {top}\nforce_n = [0.0, 0.0, {}]\n",
+                        -self.load_n
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A small stack for the separation model: `satellites` 150 kg satellites on steel bars of
+/// `bar_length_m`, with rigid bars and 700 N/m springs of 0.08 m stroke. `separation_keys` go
+/// into the `[separation]` table itself; `tables` (e.g. `[separation.contact]`) are appended
+/// at the end.
+pub fn small_stack(
+    satellites: usize,
+    bar_length_m: f64,
+    separation_keys: &str,
+    tables: &str,
+) -> String {
+    format!(
+        r#"
+[[material]]
+name = "steel"
+youngs_modulus_pa = 210e9
+poisson_ratio = 0.3
+density_kg_m3 = 7850
+
+[stack]
+satellites = {satellites}
+satellite_mass_kg = 150.0
+satellite_inertia_kg_m2 = [16.0, 22.0, 30.0]
+satellite_pitch_m = 0.5
+base_height_m = 0.2
+column_spacing_m = [1.0, 0.8]
+column_outer_diameter_m = 0.04
+column_inner_diameter_m = 0.021
+column_material = "steel"
+bar_diameter_m = 0.02
+bar_length_m = {bar_length_m}
+bar_material = "steel"
+preload_total_n = 45000.0
+[stack.interface]
+axial_stiffness_n_m = 1e8
+shear_stiffness_n_m = 1e8
+rotational_stiffness_n_m_rad = 1e6
+torsional_stiffness_n_m_rad = 1e6
+
+[separation]
+bar_modes = "rigid"
+{separation_keys}[separation.spring]
+stiffness_n_m = 700.0
+stroke_m = 0.08
+{tables}"#
+    )
+}
