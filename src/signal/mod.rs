@@ -11,6 +11,9 @@
 //! 5. [`frf`]: H1, H2, coherence and resonance picking on |H1|.
 //! 6. [`sweep`]: sine-sweep tracking (amplitude and phase against drive frequency).
 //! 7. [`signature`]: pre/post test signature comparison.
+//!
+//! Beside them, [`srs`]: the shock response spectrum of a transient (Smallwood's ramp-invariant
+//! filter, ISO 18431-4) and its tolerance check against a shock specification.
 
 pub mod bands;
 pub mod frf;
