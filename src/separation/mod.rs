@@ -1,4 +1,4 @@
-//! Separation dynamics of the in-orbit release (issue 6; paper §3–§4 carried to 3-D): rigid
+//! Separation dynamics of the in-orbit release (the paper's §3–§4 carried to 3-D): rigid
 //! satellites with 6 DOF (quaternions), guide bars as flexible cantilevers in modal coordinates
 //! (modes from `fem`), bore-edge contact with Lankarani–Nikravesh normal force and regularised
 //! Coulomb friction, four separation springs per interface, the release schedule after the

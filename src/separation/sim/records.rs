@@ -1,0 +1,217 @@
+//! What a run keeps of its steps: per-satellite maxima (speed, acceleration, rate), the
+//! smallest axial gap between neighbours, the largest energy residual, the sampled
+//! histories; and the results assembled from them at the end.
+
+use super::super::body::{BODY_STATES, add, mul, norm, scale};
+use super::super::integrator::Dopri5;
+use super::Sim;
+use super::layout::{body_rate, body_velocity};
+use super::results::{History, PairClearance, SatelliteResult, SeparationResult};
+
+/// Running records of one run.
+pub(super) struct Records {
+    max_speed: Vec<f64>,
+    max_acc: Vec<f64>,
+    peak_rate: Vec<f64>,
+    /// Smallest axial gap of each pair of neighbours while both are free, m.
+    pair_min: Vec<f64>,
+    max_rel_residual: f64,
+    hist: Option<History>,
+    /// Time of the next history sample, s.
+    next_sample: f64,
+    /// A state buffer for the dense output at the history samples.
+    ybuf: Vec<f64>,
+}
+
+impl Records {
+    pub(super) fn new(n: usize, record_history: bool, dim: usize) -> Records {
+        Records {
+            max_speed: vec![0.0f64; n],
+            max_acc: vec![0.0f64; n],
+            peak_rate: vec![0.0f64; n],
+            pair_min: vec![f64::INFINITY; n.saturating_sub(1)],
+            max_rel_residual: 0.0f64,
+            hist: record_history.then(|| History {
+                satellites: vec![Vec::new(); n],
+                ..Default::default()
+            }),
+            next_sample: 0.0,
+            ybuf: vec![0.0; dim],
+        }
+    }
+}
+
+impl Sim<'_> {
+    /// History samples of the step just taken (possibly re-taken to an event).
+    pub(super) fn sample_history(&self, ig: &Dopri5, rec: &mut Records) {
+        if let Some(h) = rec.hist.as_mut() {
+            while rec.next_sample <= ig.t + 1e-12 {
+                ig.dense(rec.next_sample.min(ig.t), &mut rec.ybuf);
+                self.record(h, rec.next_sample, &rec.ybuf);
+                rec.next_sample += self.m.output_interval_s;
+            }
+        }
+    }
+
+    /// The maxima and gaps at the step end. The audit costs about one right-hand side:
+    /// sample it every 8th step.
+    pub(super) fn update_records(&self, ig: &Dopri5, rec: &mut Records) {
+        let dyv = ig.derivative();
+        for i in 0..self.n {
+            if !self.free[i + 1] {
+                continue;
+            }
+            let o = BODY_STATES * (i + 1);
+            let v = body_velocity(&ig.y, i + 1);
+            let w = body_rate(&ig.y, i + 1);
+            rec.max_speed[i] = rec.max_speed[i].max(norm(v));
+            rec.max_acc[i] = rec.max_acc[i].max(norm([dyv[o + 7], dyv[o + 8], dyv[o + 9]]));
+            rec.peak_rate[i] = rec.peak_rate[i].max(norm(w).to_degrees());
+        }
+        for (k, pm) in rec.pair_min.iter_mut().enumerate() {
+            if self.free[k + 1] && self.free[k + 2] {
+                *pm = pm.min(self.pair_gap(&ig.y, k + 1));
+            }
+        }
+        if ig.stats.steps.is_multiple_of(8) {
+            let en = self.energy(&ig.y);
+            rec.max_rel_residual = rec.max_rel_residual.max(en.relative_residual);
+        }
+    }
+
+    /// Smallest axial gap between satellite `k`'s column bottoms and satellite k + 1's tops.
+    fn pair_gap(&self, y: &[f64], k: usize) -> f64 {
+        let (a, b) = (self.frame(y, k), self.frame(y, k + 1));
+        (0..4)
+            .map(|j| {
+                let pa = add(a.x, mul(&a.r, self.edge_body[k - 1][j][0]));
+                let pb = add(b.x, mul(&b.r, self.edge_body[k][j][1]));
+                pa[2] - pb[2]
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// One history sample at time `t`, state `y`.
+    fn record(&self, h: &mut History, t: f64, y: &[f64]) {
+        h.times_s.push(t);
+        for i in 0..self.n {
+            let o = BODY_STATES * (i + 1);
+            let v = body_velocity(y, i + 1);
+            let w = body_rate(y, i + 1);
+            h.satellites[i].push([
+                y[o],
+                y[o + 1],
+                y[o + 2],
+                v[0],
+                v[1],
+                v[2],
+                norm(v),
+                w[0].to_degrees(),
+                w[1].to_degrees(),
+                w[2].to_degrees(),
+                norm(w).to_degrees(),
+            ]);
+        }
+        let e = self.energy(y);
+        let losses =
+            e.contact_damping_loss_j + e.friction_loss_j + e.bar_damping_loss_j + e.tip_cut_loss_j;
+        h.energy.push([
+            e.spring_work_j,
+            e.kinetic_j,
+            e.bar_j,
+            e.contact_elastic_j,
+            losses,
+            e.residual_j,
+        ]);
+    }
+
+    /// The results at the end of the run (integrator `ig`).
+    pub(super) fn results(&self, ig: &Dopri5, rec: Records) -> SeparationResult {
+        let y = &ig.y;
+        let satellites = (0..self.n)
+            .map(|i| self.satellite_result(ig, &rec, i))
+            .collect();
+        let mut energy = self.energy(y);
+        energy.max_relative_residual = rec.max_rel_residual.max(energy.relative_residual);
+        let pair_clearances: Vec<PairClearance> = (0..self.n.saturating_sub(1))
+            .filter(|&k| rec.pair_min[k].is_finite())
+            .map(|k| PairClearance {
+                upper: k + 1,
+                min_clearance_m: rec.pair_min[k],
+                closing_speed_m_s: body_velocity(y, k + 2)[2] - body_velocity(y, k + 1)[2],
+            })
+            .collect();
+        let min_clearance_m = pair_clearances
+            .iter()
+            .map(|p| p.min_clearance_m)
+            .reduce(f64::min);
+        SeparationResult {
+            satellites,
+            energy,
+            transitions: self.transitions,
+            stats: ig.stats,
+            end_time_s: ig.t,
+            pair_clearances,
+            min_clearance_m,
+            history: rec.hist,
+        }
+    }
+
+    /// Satellite `i` (0-based): at its exit from the bars, or at the end of the run.
+    fn satellite_result(&self, ig: &Dopri5, rec: &Records, i: usize) -> SatelliteResult {
+        let (t_exit, v, w) =
+            self.exit[i].unwrap_or((ig.t, body_velocity(&ig.y, i + 1), body_rate(&ig.y, i + 1)));
+        let rel = self.m.release_times_s[i];
+        SatelliteResult {
+            index: i + 1,
+            release_time_s: rel,
+            max_speed_m_s: rec.max_speed[i],
+            max_accel_m_s2: rec.max_acc[i],
+            peak_rate_deg_s: rec.peak_rate[i],
+            final_speed_m_s: norm(v),
+            final_rate_deg_s: norm(w).to_degrees(),
+            final_velocity_m_s: v,
+            final_rate_body_deg_s: scale(w, 180.0 / std::f64::consts::PI),
+            exit_time_s: self.exit[i].map(|_| t_exit - rel.unwrap_or(0.0)),
+            contacts: self.contacts[i],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::fixture;
+    use super::*;
+
+    /// Both satellites at their latched positions: satellite 1's column bottoms rest on
+    /// satellite 2's tops (gap 0 up to the rounding of the heights); lifting satellite 1 by
+    /// 2 cm opens the gap by 2 cm.
+    #[test]
+    fn the_pair_gap_is_the_axial_distance_of_the_column_ends() {
+        let m = fixture::two_satellites();
+        let sim = Sim::new(&m);
+        let mut y = sim.initial_state();
+        assert!(sim.pair_gap(&y, 1).abs() < 1e-15);
+        y[13 + 2] += 0.02;
+        assert!((sim.pair_gap(&y, 1) - 0.02).abs() < 1e-15);
+    }
+
+    /// A whole run of a free satellite coasting upwards at 0.2 m/s: it leaves the bars when
+    /// its bottom edges pass the tip, (1.5 − 0.7) / 0.2 = 4 s after the start (by hand), at
+    /// its initial speed; nothing acts on it, so its peak acceleration is zero.
+    #[test]
+    fn a_coasting_satellite_exits_at_the_closed_form_time() {
+        let mut m = fixture::two_satellites();
+        m.satellites[0].initial_velocity_m_s = [0.0, 0.0, 0.2];
+        m.max_time_s = 10.0;
+        let r = super::super::run(&m, &Default::default()).expect("the run completes");
+        let s = &r.satellites[0];
+        assert!(
+            (s.exit_time_s.expect("it left") - 4.0).abs() < 1e-12,
+            "{s:?}"
+        );
+        assert!((s.final_speed_m_s - 0.2).abs() < 1e-15);
+        assert_eq!(s.max_accel_m_s2, 0.0);
+        assert_eq!(r.satellites[1].exit_time_s, None);
+    }
+}
