@@ -3,7 +3,7 @@
 
 use super::bands::{BAND_MODES, band_edges, run_band};
 use super::csc::SymCsc;
-use super::factor::{Factor, Pencil, factor_away_from_eigenvalue};
+use super::factor::{Pencil, factor_away_from_eigenvalue};
 use super::{Pair, SparseError};
 use crate::error::ModalError;
 use faer::{Mat, Par};
@@ -70,16 +70,16 @@ pub fn eigen(
         return Ok((Vec::new(), stats));
     }
     // Sturm count at the top of the band.
-    let mut top: Option<Factor<'_>> = None;
+    let mut top: Option<Edge> = None;
     if let Some(f) = fmax_hz {
         let lmax = (two_pi * f).powi(2);
         let fac = factor_away_from_eigenvalue(&pencil, lmax, &mut stats)?;
         stats.fmax_count = Some(fac.negative);
-        top = Some(fac);
+        top = Some((fac.sigma, fac.negative));
     }
-    let target = match (&top, want_modes) {
-        (Some(t), Some(w)) => t.negative.min(w),
-        (Some(t), None) => t.negative,
+    let target = match (top, want_modes) {
+        (Some(t), Some(w)) => t.1.min(w),
+        (Some(t), None) => t.1,
         (None, Some(w)) => w,
         (None, None) => {
             return Err(ModalError::Invalid(
@@ -90,14 +90,63 @@ pub fn eigen(
     };
     if target == 0 {
         let t = top.expect("target 0 without fmax means modes = 0, handled above");
-        stats.sturm_sigma = t.sigma;
+        stats.sturm_sigma = t.0;
         stats.sturm_count = 0;
         return Ok((Vec::new(), stats));
     }
+    let low_sigma = shift_below_spectrum(&pencil, top.map(|t| t.0), &mut stats)?;
+    let bands = spectrum_bands(&pencil, low_sigma, top, want_modes, &mut stats)?;
+    let mut accepted: Vec<(f64, Vec<f64>)> = Vec::new();
+    for r in solve_bands(m, &pencil, &bands, target) {
+        let (pairs, st) = r?;
+        accepted.extend(pairs);
+        stats.add_band(&st);
+    }
+    // The counted top of the band: what no returned eigenvalue may reach.
+    let lmax = |f: f64| top.map(|t| t.0).unwrap_or((two_pi * f).powi(2));
+    // Each slice matched its own count; the whole band is checked once more here.
+    if let (Some(f), Some(count)) = (fmax_hz, stats.fmax_count) {
+        let below = accepted.iter().filter(|p| p.0 < lmax(f)).count();
+        sturm_check(count, below, f)?;
+    }
+    accepted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    accepted.truncate(target);
+    stats.max_backward_error = rayleigh_quotients(k, m, &mut accepted);
+    accepted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if let (Some(f), Some(count)) = (fmax_hz, stats.fmax_count)
+        && accepted.len() == count
+    {
+        // The quotients moved by round-off only; none may cross the counted top.
+        sturm_check(count, accepted.iter().filter(|p| p.0 < lmax(f)).count(), f)?;
+    }
+    Ok((accepted, stats))
+}
 
-    // A shift below the whole spectrum: a small fraction of a typical K_ii/M_ii (the Rayleigh
-    // quotient of a unit vector, so of the order of the spectrum), pushed down until the
-    // count is 0 (negative eigenvalues exist when the prestress exceeds the buckling load).
+impl SparseStats {
+    /// Adds the work of one band; the Sturm check reported is the highest band's.
+    fn add_band(&mut self, st: &SparseStats) {
+        self.factorizations += st.factorizations;
+        self.bands += 1;
+        self.clusters += st.clusters;
+        self.slices += st.slices;
+        self.lanczos_vectors += st.lanczos_vectors;
+        self.restarts += st.restarts;
+        if st.sturm_count >= self.sturm_count {
+            self.sturm_sigma = st.sturm_sigma;
+            self.sturm_count = st.sturm_count;
+        }
+    }
+}
+
+/// A shift below the whole spectrum: a small fraction of a typical K_ii/M_ii (the Rayleigh
+/// quotient of a unit vector, so of the order of the spectrum), pushed down until the count
+/// is 0 (negative eigenvalues exist when the prestress exceeds the buckling load).
+fn shift_below_spectrum(
+    pencil: &Pencil,
+    top_sigma: Option<f64>,
+    stats: &mut SparseStats,
+) -> Result<f64, SparseError> {
+    let n = pencil.n;
     let dk = &pencil.diag_k;
     let dm = &pencil.diag_m;
     let mut ratios: Vec<f64> = (0..n)
@@ -106,48 +155,63 @@ pub fn eigen(
         .collect();
     ratios.sort_by(f64::total_cmp);
     let mut s = ratios.get(ratios.len() / 2).copied().unwrap_or(1.0);
-    if let Some(t) = &top {
-        s = s.min(t.sigma);
+    if let Some(t) = top_sigma {
+        s = s.min(t);
     }
     s *= 1e-6;
-    let mut low = None;
     for _ in 0..12 {
-        let fac = factor_away_from_eigenvalue(&pencil, -s, &mut stats)?;
+        let fac = factor_away_from_eigenvalue(pencil, -s, stats)?;
         if fac.negative == 0 {
-            low = Some(fac);
-            break;
+            return Ok(fac.sigma);
         }
         s *= 100.0;
     }
-    let low = low.ok_or_else(|| {
-        ModalError::NoConvergence(format!(
-            "no shift below the spectrum found down to σ = {:e} rad²/s²",
-            -s
-        ))
-    })?;
-    let top_pair = top.as_ref().map(|t| (t.sigma, t.negative));
-    let low_sigma = low.sigma;
-    drop(low);
-    // Bands of the spectrum, each solved independently (its own slices, locked vectors and
-    // seed) and in parallel. The cut points depend only on the model, never on the number of
-    // threads, so the result is the same on any machine.
-    let edges = match top_pair {
+    Err(ModalError::NoConvergence(format!(
+        "no shift below the spectrum found down to σ = {:e} rad²/s²",
+        -s
+    ))
+    .into())
+}
+
+/// Bands of the spectrum, each solved independently (its own slices, locked vectors and
+/// seed) and in parallel: (bottom edge, upper edge) pairs, the last one up to the counted top
+/// (or open). The cut points depend only on the model, never on the number of threads, so
+/// the result is the same on any machine.
+fn spectrum_bands(
+    pencil: &Pencil,
+    low_sigma: f64,
+    top: Option<Edge>,
+    want_modes: Option<usize>,
+    stats: &mut SparseStats,
+) -> Result<Vec<(Edge, Option<Edge>)>, SparseError> {
+    let edges = match top {
         Some((ts, tc)) if want_modes.is_none_or(|w| w >= tc) && tc >= 2 * BAND_MODES => {
-            band_edges(&pencil, (low_sigma, 0), (ts, tc), &mut stats)?
+            band_edges(pencil, (low_sigma, 0), (ts, tc), stats)?
         }
         _ => vec![(low_sigma, 0)],
     };
     let mut bands: Vec<(Edge, Option<Edge>)> =
         edges.windows(2).map(|w| (w[0], Some(w[1]))).collect();
-    bands.push((*edges.last().expect("at least the bottom edge"), top_pair));
-    type BandResult = Result<(Vec<Pair>, SparseStats), SparseError>;
+    bands.push((*edges.last().expect("at least the bottom edge"), top));
+    Ok(bands)
+}
+
+type BandResult = Result<(Vec<Pair>, SparseStats), SparseError>;
+
+/// Runs every band, on as many threads as rayon has, and returns the results in band order.
+fn solve_bands(
+    m: &SymCsc,
+    pencil: &Pencil,
+    bands: &[(Edge, Option<Edge>)],
+    target: usize,
+) -> Vec<BandResult> {
     let run = |j: usize| -> BandResult {
         let (bottom, upper) = bands[j];
         let mut st = SparseStats::default();
         let t = upper.map(|u| u.1).unwrap_or(target).min(target);
         let pairs = run_band(
             m,
-            &pencil,
+            pencil,
             bottom,
             upper,
             t,
@@ -183,53 +247,32 @@ pub fn eigen(
             });
         }
     });
-    let results: Vec<BandResult> = slots
+    slots
         .into_iter()
         .map(|s| {
             s.into_inner()
                 .unwrap_or_else(|e| e.into_inner())
                 .expect("every band ran")
         })
-        .collect();
-    let mut accepted: Vec<(f64, Vec<f64>)> = Vec::new();
-    for r in results {
-        let (pairs, st) = r?;
-        accepted.extend(pairs);
-        stats.factorizations += st.factorizations;
-        stats.bands += 1;
-        stats.clusters += st.clusters;
-        stats.slices += st.slices;
-        stats.lanczos_vectors += st.lanczos_vectors;
-        stats.restarts += st.restarts;
-        if st.sturm_count >= stats.sturm_count {
-            stats.sturm_sigma = st.sturm_sigma;
-            stats.sturm_count = st.sturm_count;
-        }
-    }
-    // Each slice matched its own count; the whole band is checked once more here.
-    if let (Some(f), Some(count)) = (fmax_hz, stats.fmax_count) {
-        let lmax = top
-            .as_ref()
-            .map(|t| t.sigma)
-            .unwrap_or((two_pi * f).powi(2));
-        let below = accepted.iter().filter(|p| p.0 < lmax).count();
-        sturm_check(count, below, f)?;
-    }
-    accepted.sort_by(|a, b| a.0.total_cmp(&b.0));
-    accepted.truncate(target);
-    // Mass normalisation, the Rayleigh quotient and the true residuals.
-    //
-    // Each eigenvalue is replaced by the Rayleigh quotient φᵀKφ / φᵀMφ of its vector. Its error
-    // is second order in the vector's, whereas the Ritz value's is first order in a residual
-    // that the projected problem estimates without the round-off of the operator: with the
-    // rigid-body modes of a free-free model at θ = 1/|σ₀| that floor put elastic Ritz values
-    // up to 1e-8 off the dense solver (tests/modal_sparse.rs); the quotient brings them to
-    // round-off. K·φ and M·φ are computed here anyway.
+        .collect()
+}
+
+/// Mass normalisation, the Rayleigh quotient and the true residuals; returns the largest
+/// normwise backward error ‖Kφ − λMφ‖₂ / ((‖K‖₁ + |λ|·‖M‖₁)·‖φ‖₂).
+///
+/// Each eigenvalue is replaced by the Rayleigh quotient φᵀKφ / φᵀMφ of its vector. Its error
+/// is second order in the vector's, whereas the Ritz value's is first order in a residual
+/// that the projected problem estimates without the round-off of the operator: with the
+/// rigid-body modes of a free-free model at θ = 1/|σ₀| that floor put elastic Ritz values
+/// up to 1e-8 off the dense solver (tests/modal_sparse.rs); the quotient brings them to
+/// round-off. K·φ and M·φ are computed here anyway.
+fn rayleigh_quotients(k: &SymCsc, m: &SymCsc, accepted: &mut [Pair]) -> f64 {
+    let n = k.n;
     let (nk, nm) = (k.norm1(), m.norm1());
     // In blocks of columns (matrix–block products without an n × modes copy of everything),
     // in parallel: the largest backward error does not depend on the order.
     use rayon::prelude::*;
-    let worst = accepted
+    accepted
         .par_chunks_mut(64)
         .map(|chunk| {
             let mut worst = 0.0f64;
@@ -254,20 +297,7 @@ pub fn eigen(
             }
             worst
         })
-        .reduce(|| 0.0, f64::max);
-    stats.max_backward_error = worst;
-    accepted.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if let (Some(f), Some(count)) = (fmax_hz, stats.fmax_count)
-        && accepted.len() == count
-    {
-        // The quotients moved by round-off only; none may cross the counted top.
-        let lmax = top
-            .as_ref()
-            .map(|t| t.sigma)
-            .unwrap_or((two_pi * f).powi(2));
-        sturm_check(count, accepted.iter().filter(|p| p.0 < lmax).count(), f)?;
-    }
-    Ok((accepted, stats))
+        .reduce(|| 0.0, f64::max)
 }
 
 #[cfg(test)]
