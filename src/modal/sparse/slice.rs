@@ -69,28 +69,7 @@ pub(super) fn run_slice(
     bufs: &mut Option<Mat<f64>>,
 ) -> Result<SliceOut, SparseError> {
     let n = m.n;
-    let hz = |l: f64| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
-    let mismatch = |expected: usize, found: usize, at: f64| -> SparseError {
-        ModalError::SturmMismatch {
-            expected,
-            found,
-            fmax_hz: hz(at),
-        }
-        .into()
-    };
-    // The shift, pulled back toward a while [a, s) holds more than a slice.
-    let mut s = a + width;
-    if let Some((ts, _)) = top {
-        s = s.min(ts);
-    }
-    let mut fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
-    for _ in 0..20 {
-        if fac_s.negative <= c_a + SLICE_MODES || fac_s.sigma <= a {
-            break;
-        }
-        s = a + 0.5 * (fac_s.sigma - a);
-        fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
-    }
+    let fac_s = slice_shift(pencil, (a, c_a), width, top, stats)?;
     let s = fac_s.sigma;
     let c_s = fac_s.negative;
     if c_s < c_a {
@@ -142,23 +121,7 @@ pub(super) fn run_slice(
             }
             since_check = 0;
             let (theta, res, vecs) = lz.ritz()?;
-            // Ritz values of OP as eigenvalues λ = s + 1/θ at or above a, ascending, with
-            // their convergence flag and column.
-            let mut ritz: Vec<(f64, bool, usize)> = theta
-                .iter()
-                .enumerate()
-                .filter(|(_, t)| **t != 0.0)
-                .map(|(i, &t)| {
-                    let l = sh + 1.0 / t;
-                    (
-                        l,
-                        res[i] / (t * t) <= RESIDUAL_TOL * l.abs().max(sh.abs()),
-                        i,
-                    )
-                })
-                .filter(|x| x.0 >= a)
-                .collect();
-            ritz.sort_by(|x, y| x.0.total_cmp(&y.0));
+            let ritz = ritz_eigenvalues(&theta, &res, sh, a);
             let conv_below = |lim: f64| -> Vec<usize> {
                 ritz.iter()
                     .filter(|x| x.1 && x.0 < lim)
@@ -199,19 +162,7 @@ pub(super) fn run_slice(
                     .unwrap_or(0);
                 let enough = below_have + converged >= SLICE_MODES.min(remaining);
                 if enough || !more {
-                    let b = match run_end {
-                        None => s,
-                        Some(e) => {
-                            let last = above[e].0;
-                            match above[e + 1..]
-                                .iter()
-                                .find(|x| x.0 > last + 1e-8 * last.abs())
-                            {
-                                Some(x) => 0.5 * (last + x.0),
-                                None => last + 0.5 * (last - s).abs().max(1e-9 * last.abs()),
-                            }
-                        }
-                    };
+                    let b = edge_above_run(&above, run_end, s);
                     if b == s {
                         edge = Some((s, c_s));
                     } else if top.is_none_or(|(ts, _)| b < ts) {
@@ -250,20 +201,8 @@ pub(super) fn run_slice(
             // and restart for the missing ones.
             let got = lz.vectors(&vecs, &conv_below(upper), &theta, sh);
             lz.recycle(bufs);
-            // The next shift: at the unconverged Ritz value in [a, upper) closest to
-            // convergence (relative eigenvalue-error bound), i.e. where the missing ones are.
-            let target = ritz
-                .iter()
-                .filter(|x| !x.1 && x.0 < upper)
-                .map(|x| {
-                    let t = theta[x.2];
-                    (x.0, res[x.2] / (t * t) / x.0.abs().max(sh.abs()))
-                })
-                .min_by(|x, y| x.1.total_cmp(&y.1))
-                .map(|x| x.0)
-                // Ritz values over-estimate: a cluster just below the edge may show all its
-                // unconverged values above it. Then aim just below the edge.
-                .or(Some(upper));
+            // The next shift: where the missing eigenvalues are.
+            let target = restart_target(&ritz, (theta.as_slice(), res.as_slice()), upper, sh);
             lock(m, &mut locked, &mut locked_m, &got);
             in_slice.extend(got);
             let need = edge.map(|e| e.1).unwrap_or(c_s) - c_a;
@@ -311,6 +250,102 @@ pub(super) fn run_slice(
         "shift-invert Lanczos at σ = {s:e} rad²/s²: the slice above {a:e} did not complete after {MAX_RESTARTS} restarts"
     ))
     .into())
+}
+
+/// A Sturm-count mismatch at λ = `at`, reported in Hz.
+fn mismatch(expected: usize, found: usize, at: f64) -> SparseError {
+    let hz = |l: f64| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
+    ModalError::SturmMismatch {
+        expected,
+        found,
+        fmax_hz: hz(at),
+    }
+    .into()
+}
+
+/// The factored Lanczos shift of a slice: a + width (at most the band's top), pulled back
+/// toward a while [a, s) holds more than a slice.
+fn slice_shift<'a>(
+    pencil: &'a Pencil,
+    (a, c_a): (f64, usize),
+    width: f64,
+    top: Option<(f64, usize)>,
+    stats: &mut SparseStats,
+) -> Result<Factor<'a>, SparseError> {
+    let mut s = a + width;
+    if let Some((ts, _)) = top {
+        s = s.min(ts);
+    }
+    let mut fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
+    for _ in 0..20 {
+        if fac_s.negative <= c_a + SLICE_MODES || fac_s.sigma <= a {
+            break;
+        }
+        s = a + 0.5 * (fac_s.sigma - a);
+        fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
+    }
+    Ok(fac_s)
+}
+
+/// Ritz values of OP as eigenvalues λ = sh + 1/θ at or above a, ascending, with their
+/// convergence flag (the eigenvalue-error bound of the module doc) and column.
+fn ritz_eigenvalues(theta: &[f64], res: &[f64], sh: f64, a: f64) -> Vec<(f64, bool, usize)> {
+    let mut ritz: Vec<(f64, bool, usize)> = theta
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| **t != 0.0)
+        .map(|(i, &t)| {
+            let l = sh + 1.0 / t;
+            (
+                l,
+                res[i] / (t * t) <= RESIDUAL_TOL * l.abs().max(sh.abs()),
+                i,
+            )
+        })
+        .filter(|x| x.0 >= a)
+        .collect();
+    ritz.sort_by(|x, y| x.0.total_cmp(&y.0));
+    ritz
+}
+
+/// The slice's upper edge above the shift s: halfway between the last eigenvalue of the
+/// converged run (`run_end` in `above`) and the next distinct Ritz value, or s itself when
+/// nothing above it converged.
+fn edge_above_run(above: &[(f64, bool, usize)], run_end: Option<usize>, s: f64) -> f64 {
+    match run_end {
+        None => s,
+        Some(e) => {
+            let last = above[e].0;
+            match above[e + 1..]
+                .iter()
+                .find(|x| x.0 > last + 1e-8 * last.abs())
+            {
+                Some(x) => 0.5 * (last + x.0),
+                None => last + 0.5 * (last - s).abs().max(1e-9 * last.abs()),
+            }
+        }
+    }
+}
+
+/// The next shift after a restart: at the unconverged Ritz value in [a, upper) closest to
+/// convergence (relative eigenvalue-error bound), i.e. where the missing ones are.
+fn restart_target(
+    ritz: &[(f64, bool, usize)],
+    (theta, res): (&[f64], &[f64]),
+    upper: f64,
+    sh: f64,
+) -> Option<f64> {
+    ritz.iter()
+        .filter(|x| !x.1 && x.0 < upper)
+        .map(|x| {
+            let t = theta[x.2];
+            (x.0, res[x.2] / (t * t) / x.0.abs().max(sh.abs()))
+        })
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .map(|x| x.0)
+        // Ritz values over-estimate: a cluster just below the edge may show all its
+        // unconverged values above it. Then aim just below the edge.
+        .or(Some(upper))
 }
 
 /// Appends converged vectors to the locked set, and their M-products to M·locked (only the
