@@ -6,7 +6,7 @@
 //! (`faer::sparse::linalg::cholesky`, `Par::Seq`). By Sylvester's law of inertia the number of
 //! negative pivots of D equals the number of eigenvalues below σ: that **Sturm count** at
 //! σ = (2π·fmax)² says exactly how many modes lie below `fmax_hz`, and it is what proves the
-//! answer complete ([`sturm_check`]). LDLᵀ without pivoting can in principle lose its inertia
+//! answer complete ([`super::sturm_check`]). LDLᵀ without pivoting can in principle lose its inertia
 //! on an indefinite matrix; a wrong count cannot go unnoticed here, because every count is
 //! matched against converged eigenpairs and a mismatch fails loudly.
 

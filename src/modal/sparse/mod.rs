@@ -31,7 +31,7 @@
 //! all, eigen-solve 2.8 s): the Lanczos step's orthogonalisation 0.9 s (Gram–Schmidt
 //! products against [locked | basis], BLAS-3 through faer, with its two products by M), the
 //! cluster step 0.55 s, the projected eigen-problems 0.46 s, the LDLᵀ solves 0.19 s
-//! (hand-written 8-wide kernels, [`simd_kernels`], built for AVX2/AVX-512 at run time), the
+//! (hand-written 8-wide kernels, [`kernels`], built for AVX2/AVX-512 at run time), the
 //! block normalisation 0.14 s, then the factorizations and the Ritz vectors. What was cut,
 //! with the measured share: recycled basis storage instead of a fresh n × 200 allocation per
 //! slice (8%); the second Gram–Schmidt update skipped when the first pass already left the
