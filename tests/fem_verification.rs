@@ -339,7 +339,7 @@ fn guide_bar_modes_match_cantilever_roots() {
         ultimate_strength_pa: None,
     };
     let (l, d) = (3.85, 0.02);
-    let b = satqual::fem::cantilever_bar_modes(l, d, &steel, 40, 3).unwrap();
+    let b = satqual::separation::bar_modes::cantilever_bar_modes(l, d, &steel, 40, 3).unwrap();
     let (a, i) = (
         std::f64::consts::PI * d * d / 4.0,
         std::f64::consts::PI * d.powi(4) / 64.0,

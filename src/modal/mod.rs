@@ -170,148 +170,228 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
     let m_full = model.mass();
     let k0 = red.reduce(&k_full);
     let m = red.reduce(&m_full);
-    // A DOF with no mass at all cannot be in a generalized eigenproblem with positive M.
-    let mut diag = vec![0.0; red.n_red];
-    for &(i, j, v) in &m {
-        if i == j {
-            diag[i] += v;
-        }
-    }
-    let scale = diag.iter().copied().fold(0.0, f64::max);
-    if let Some(i) = diag.iter().position(|&d| d <= 1e-14 * scale) {
-        return Err(dof_err(model, &red, i, true).into());
-    }
-
-    let use_sparse = match opts.solver {
-        SolverChoice::Dense => false,
-        SolverChoice::Sparse => true,
-        // "All modes" of a large model is a dense job: only a bounded request goes sparse.
-        SolverChoice::Auto => {
-            red.n_red > AUTO_SPARSE_DOFS && (opts.fmax_hz.is_some() || opts.modes.is_some())
-        }
-    };
-    if use_sparse && opts.fmax_hz.is_none() && opts.modes.is_none() {
-        return Err(ModalError::Invalid(format!(
-            "the sparse solver needs [modal] fmax_hz or modes (or --fmax / --modes): it extracts a band of modes, not all {} of this model; use solver = \"dense\" for all of them",
-            red.n_red
-        ))
-        .into());
-    }
-    let sparse_err = |e: sparse::SparseError, massless: bool| -> crate::Error {
-        match e {
-            sparse::SparseError::NotPositiveDefinite { index } => {
-                dof_err(model, &red, index, massless).into()
-            }
-            sparse::SparseError::Modal(m) => m.into(),
-        }
-    };
+    check_every_dof_has_mass(model, &red, &m)?;
+    let use_sparse = use_sparse_solver(opts, red.n_red)?;
 
     let loads = model.load_vector();
     let prestressed = loads.iter().any(|&f| f != 0.0);
     let mut k = k0.clone();
     let mut prestress = None;
     if prestressed {
-        // The static solve cuts the preloaded joints, so the preload loops carry exactly the
-        // preload; buckling and modes use the locked stiffness.
-        let ks = red.reduce(&model.stiffness_prestress());
-        let f = red.reduce_vec(&loads);
-        let (u_red, kd) = if use_sparse {
-            let kc = sparse::SymCsc::from_triplets(red.n_red, &ks);
-            let u = sparse::solve_spd(&kc, &f).map_err(|e| sparse_err(e, false))?;
-            (u, None)
-        } else {
-            let ksd = to_dense(red.n_red, &ks);
-            let u = dense::solve_spd(&ksd, &f).map_err(|e| match e {
-                dense::DenseError::NotPositiveDefinite { index } => {
-                    crate::Error::from(dof_err(model, &red, index, false))
-                }
-                dense::DenseError::NoConvergence => {
-                    ModalError::NoConvergence("static solve".into()).into()
-                }
-            })?;
-            (u, Some(to_dense(red.n_red, &k0)))
-        };
-        let u = red.expand(&u_red);
-        let axial = element_axial_forces(model, &u);
-        let kg = red.reduce(&model.geometric_stiffness(&axial));
-        let lambda = match kd {
-            None => sparse::buckling_factor(
-                &sparse::SymCsc::from_triplets(red.n_red, &k0),
-                &sparse::SymCsc::from_triplets(red.n_red, &kg),
-            )
-            .map_err(|e| sparse_err(e, false))?,
-            Some(kd) => {
-                let kgd = to_dense(red.n_red, &kg);
-                dense::buckling_factor(&kd, &kgd)
-                    .map_err(|_| ModalError::NoConvergence("buckling".into()))?
-            }
-        };
-        if opts.stop_beyond_buckling
-            && let Some(factor) = lambda
-            && factor < 1.0
-        {
-            return Err(ModalError::BeyondBuckling { factor }.into());
-        }
-        let mut members: Vec<MemberForce> = Vec::new();
-        for (e, b) in model.beams.iter().enumerate() {
-            if members.len() <= b.member {
-                members.push(MemberForce {
-                    name: model.member_names[b.member].clone(),
-                    axial_force_n: axial[e],
-                });
-            }
-        }
+        let (summary, kg) = solve_prestress(model, &red, &k0, &loads, use_sparse, opts)?;
         k.extend(kg);
-        let springs = model
-            .spring_forces(&u)
-            .into_iter()
-            .zip(&model.spring_names)
-            .map(|(f, name)| SpringForce {
-                name: name.clone(),
-                force_n: f,
-            })
-            .collect();
-        prestress = Some(PrestressSummary {
-            buckling_factor: lambda,
-            members,
-            springs,
-            element_axial_n: axial,
-            displacement: u,
-        });
+        prestress = Some(summary);
     }
+    let result = if use_sparse {
+        sparse_modes(model, &red, &m_full, (&k, &m), opts, prestress)?
+    } else {
+        dense_modes(model, &red, &m_full, (&k, &m), opts, prestress)?
+    };
+    Ok(ModalSystem {
+        reduction: red,
+        k,
+        m,
+        result,
+    })
+}
 
-    if use_sparse {
-        let kc = sparse::SymCsc::from_triplets(red.n_red, &k);
-        let mc = sparse::SymCsc::from_triplets(red.n_red, &m);
-        let (pairs, stats) =
-            sparse::eigen(&kc, &mc, opts.fmax_hz, opts.modes).map_err(|e| sparse_err(e, true))?;
-        let two_pi = 2.0 * std::f64::consts::PI;
-        let label = format!(
-            "sparse (shift-invert block Lanczos on faer LDLᵀ; Sturm count {} below {:.6} Hz)",
-            stats.sturm_count,
-            stats.sturm_sigma.max(0.0).sqrt() / two_pi
-        );
-        let mut result = modal_result(model, &red, &m_full, &m, pairs, &label, prestress);
-        result.sparse = Some(stats);
-        return Ok(ModalSystem {
-            reduction: red,
-            k,
-            m,
-            result,
-        });
+/// A DOF with no mass at all cannot be in a generalized eigenproblem with positive M.
+fn check_every_dof_has_mass(
+    model: &FeModel,
+    red: &Reduction,
+    m: &Triplets,
+) -> Result<(), crate::Error> {
+    let mut diag = vec![0.0; red.n_red];
+    for &(i, j, v) in m {
+        if i == j {
+            diag[i] += v;
+        }
     }
+    let scale = diag.iter().copied().fold(0.0, f64::max);
+    if let Some(i) = diag.iter().position(|&d| d <= 1e-14 * scale) {
+        return Err(dof_err(model, red, i, true).into());
+    }
+    Ok(())
+}
 
-    let kd = to_dense(red.n_red, &k);
-    let md = to_dense(red.n_red, &m);
-    let (lambda, phi) = dense::generalized(&kd, &md).map_err(|e| match e {
+/// Whether the request goes to the sparse solver, which needs a bounded band of modes.
+fn use_sparse_solver(opts: &ModalOptions, n_red: usize) -> Result<bool, crate::Error> {
+    let use_sparse = match opts.solver {
+        SolverChoice::Dense => false,
+        SolverChoice::Sparse => true,
+        // "All modes" of a large model is a dense job: only a bounded request goes sparse.
+        SolverChoice::Auto => {
+            n_red > AUTO_SPARSE_DOFS && (opts.fmax_hz.is_some() || opts.modes.is_some())
+        }
+    };
+    if use_sparse && opts.fmax_hz.is_none() && opts.modes.is_none() {
+        return Err(ModalError::Invalid(format!(
+            "the sparse solver needs [modal] fmax_hz or modes (or --fmax / --modes): it extracts a band of modes, not all {n_red} of this model; use solver = \"dense\" for all of them"
+        ))
+        .into());
+    }
+    Ok(use_sparse)
+}
+
+/// A sparse-solver failure in the model's terms: a pivot becomes the node and DOF it sits on.
+fn sparse_err(
+    model: &FeModel,
+    red: &Reduction,
+    e: sparse::SparseError,
+    massless: bool,
+) -> crate::Error {
+    match e {
+        sparse::SparseError::NotPositiveDefinite { index } => {
+            dof_err(model, red, index, massless).into()
+        }
+        sparse::SparseError::Modal(m) => m.into(),
+    }
+}
+
+/// A dense-solver failure in the model's terms; `what` names the solve that did not converge.
+fn dense_err(
+    model: &FeModel,
+    red: &Reduction,
+    e: dense::DenseError,
+    massless: bool,
+    what: &str,
+) -> crate::Error {
+    match e {
         dense::DenseError::NotPositiveDefinite { index } => {
-            crate::Error::from(dof_err(model, &red, index, true))
+            crate::Error::from(dof_err(model, red, index, massless))
         }
-        dense::DenseError::NoConvergence => {
-            ModalError::NoConvergence("dense eigen-solve".into()).into()
-        }
-    })?;
+        dense::DenseError::NoConvergence => ModalError::NoConvergence(what.into()).into(),
+    }
+}
 
+/// The prestress: the static solve, the element axial forces and K_G from them, the buckling
+/// factor, and the member and joint forces. Returns the summary and the reduced K_G.
+fn solve_prestress(
+    model: &FeModel,
+    red: &Reduction,
+    k0: &Triplets,
+    loads: &[f64],
+    use_sparse: bool,
+    opts: &ModalOptions,
+) -> Result<(PrestressSummary, Triplets), crate::Error> {
+    let u_red = static_displacement(model, red, loads, use_sparse)?;
+    let u = red.expand(&u_red);
+    let axial = element_axial_forces(model, &u);
+    let kg = red.reduce(&model.geometric_stiffness(&axial));
+    let lambda = buckling(model, red, k0, &kg, use_sparse)?;
+    if opts.stop_beyond_buckling
+        && let Some(factor) = lambda
+        && factor < 1.0
+    {
+        return Err(ModalError::BeyondBuckling { factor }.into());
+    }
+    let mut members: Vec<MemberForce> = Vec::new();
+    for (e, b) in model.beams.iter().enumerate() {
+        if members.len() <= b.member {
+            members.push(MemberForce {
+                name: model.member_names[b.member].clone(),
+                axial_force_n: axial[e],
+            });
+        }
+    }
+    let springs = model
+        .spring_forces(&u)
+        .into_iter()
+        .zip(&model.spring_names)
+        .map(|(f, name)| SpringForce {
+            name: name.clone(),
+            force_n: f,
+        })
+        .collect();
+    let summary = PrestressSummary {
+        buckling_factor: lambda,
+        members,
+        springs,
+        element_axial_n: axial,
+        displacement: u,
+    };
+    Ok((summary, kg))
+}
+
+/// The reduced static displacement under the loads. The static solve cuts the preloaded
+/// joints, so the preload loops carry exactly the preload; buckling and modes use the locked
+/// stiffness.
+fn static_displacement(
+    model: &FeModel,
+    red: &Reduction,
+    loads: &[f64],
+    use_sparse: bool,
+) -> Result<Vec<f64>, crate::Error> {
+    let ks = red.reduce(&model.stiffness_prestress());
+    let f = red.reduce_vec(loads);
+    if use_sparse {
+        let kc = sparse::SymCsc::from_triplets(red.n_red, &ks);
+        sparse::solve_spd(&kc, &f).map_err(|e| sparse_err(model, red, e, false))
+    } else {
+        let ksd = to_dense(red.n_red, &ks);
+        dense::solve_spd(&ksd, &f).map_err(|e| dense_err(model, red, e, false, "static solve"))
+    }
+}
+
+/// The buckling factor of (K + λ·K_G)·φ = 0 on the locked stiffness K.
+fn buckling(
+    model: &FeModel,
+    red: &Reduction,
+    k0: &Triplets,
+    kg: &Triplets,
+    use_sparse: bool,
+) -> Result<Option<f64>, crate::Error> {
+    if use_sparse {
+        sparse::buckling_factor(
+            &sparse::SymCsc::from_triplets(red.n_red, k0),
+            &sparse::SymCsc::from_triplets(red.n_red, kg),
+        )
+        .map_err(|e| sparse_err(model, red, e, false))
+    } else {
+        let kd = to_dense(red.n_red, k0);
+        let kgd = to_dense(red.n_red, kg);
+        dense::buckling_factor(&kd, &kgd)
+            .map_err(|_| ModalError::NoConvergence("buckling".into()).into())
+    }
+}
+
+/// The modes of the band asked for by the sparse solver, with its Sturm proof in the label.
+fn sparse_modes(
+    model: &FeModel,
+    red: &Reduction,
+    m_full: &Triplets,
+    (k, m): (&Triplets, &Triplets),
+    opts: &ModalOptions,
+    prestress: Option<PrestressSummary>,
+) -> Result<ModalResult, crate::Error> {
+    let kc = sparse::SymCsc::from_triplets(red.n_red, k);
+    let mc = sparse::SymCsc::from_triplets(red.n_red, m);
+    let (pairs, stats) = sparse::eigen(&kc, &mc, opts.fmax_hz, opts.modes)
+        .map_err(|e| sparse_err(model, red, e, true))?;
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let label = format!(
+        "sparse (shift-invert block Lanczos on faer LDLᵀ; Sturm count {} below {:.6} Hz)",
+        stats.sturm_count,
+        stats.sturm_sigma.max(0.0).sqrt() / two_pi
+    );
+    let mut result = modal_result(model, red, m_full, m, pairs, &label, prestress);
+    result.sparse = Some(stats);
+    Ok(result)
+}
+
+/// Every mode by the dense solver, then the ones asked for (`modes`, `fmax_hz`) kept.
+fn dense_modes(
+    model: &FeModel,
+    red: &Reduction,
+    m_full: &Triplets,
+    (k, m): (&Triplets, &Triplets),
+    opts: &ModalOptions,
+    prestress: Option<PrestressSummary>,
+) -> Result<ModalResult, crate::Error> {
+    let kd = to_dense(red.n_red, k);
+    let md = to_dense(red.n_red, m);
+    let (lambda, phi) = dense::generalized(&kd, &md)
+        .map_err(|e| dense_err(model, red, e, true, "dense eigen-solve"))?;
     let two_pi = 2.0 * std::f64::consts::PI;
     let mut keep = lambda.len();
     if let Some(n) = opts.modes {
@@ -324,21 +404,15 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
     let shapes: Vec<(f64, Vec<f64>)> = (0..keep)
         .map(|c| (lambda[c], (0..red.n_red).map(|r| phi[(r, c)]).collect()))
         .collect();
-    let result = modal_result(
+    Ok(modal_result(
         model,
-        &red,
-        &m_full,
-        &m,
+        red,
+        m_full,
+        m,
         shapes,
         "dense (faer self-adjoint eigen)",
         prestress,
-    );
-    Ok(ModalSystem {
-        reduction: red,
-        k,
-        m,
-        result,
-    })
+    ))
 }
 
 /// Axial force of every beam element from a full displacement vector (tension positive).
@@ -368,8 +442,38 @@ pub fn modal_result(
 ) -> ModalResult {
     let (total_mass, cm) = model.mass_properties(m_full);
     let d_full = model.rigid_body_vectors(cm);
+    let (md, rb, rb_total) = rigid_body_masses(red, m_full, m_red, &d_full);
+    let pairs = align_degenerate(pairs, &md, &rb_total);
+    use rayon::prelude::*;
+    // Per mode and independent, so in parallel (2772 modes of 6200 DOFs on the 60-satellite
+    // stack); the collected order is the input order whatever the thread count.
+    let modes = pairs
+        .into_par_iter()
+        .enumerate()
+        .map(|(idx, (lambda, shape))| mode(idx, lambda, shape, &md, &rb_total))
+        .collect();
+    ModalResult {
+        total_mass_kg: total_mass,
+        center_of_mass_m: cm,
+        rigid_body_mass: Dir6::from_array(rb),
+        total_rigid_body_mass: Dir6::from_array(rb_total),
+        dofs: red.n_red,
+        solver: solver.to_string(),
+        modes,
+        prestress,
+        sparse: None,
+    }
+}
+
+/// M·D over the reduced DOFs (D: the rigid-body vectors about the centre of mass), and the
+/// diagonal of Dᵀ·M·D over the free DOFs and over all DOFs.
+fn rigid_body_masses(
+    red: &Reduction,
+    m_full: &Triplets,
+    m_red: &Triplets,
+    d_full: &[[f64; 6]],
+) -> (Vec<[f64; 6]>, [f64; 6], [f64; 6]) {
     let d_red: Vec<[f64; 6]> = red.red_to_full.iter().map(|&f| d_full[f]).collect();
-    // M·D over the reduced DOFs.
     let mut md = vec![[0.0; 6]; red.n_red];
     for &(i, j, v) in m_red {
         for a in 0..6 {
@@ -388,61 +492,52 @@ pub fn modal_result(
             rb_total[a] += d_full[i][a] * v * d_full[j][a];
         }
     }
-    let pairs = align_degenerate(pairs, &md, &rb_total);
+    (md, rb, rb_total)
+}
+
+/// Mode `idx` (0-based) of eigenvalue `lambda`: its sign fixed, frequency, participation
+/// factors and effective masses.
+fn mode(
+    idx: usize,
+    lambda: f64,
+    mut shape: Vec<f64>,
+    md: &[[f64; 6]],
+    rb_total: &[f64; 6],
+) -> Mode {
     let two_pi = 2.0 * std::f64::consts::PI;
-    use rayon::prelude::*;
-    // Per mode and independent, so in parallel (2772 modes of 6200 DOFs on the 60-satellite
-    // stack); the collected order is the input order whatever the thread count.
-    let modes = pairs
-        .into_par_iter()
-        .enumerate()
-        .map(|(idx, (lambda, mut shape))| {
-            // Sign convention: the largest-magnitude component (first one on ties) is positive.
-            let mut imax = 0;
-            for (i, v) in shape.iter().enumerate() {
-                if v.abs() > shape[imax].abs() * (1.0 + 1e-12) {
-                    imax = i;
-                }
-            }
-            if shape[imax] < 0.0 {
-                shape.iter_mut().for_each(|v| *v = -*v);
-            }
-            let mut gamma = [0.0; 6];
-            for (i, s) in shape.iter().enumerate() {
-                for a in 0..6 {
-                    gamma[a] += s * md[i][a];
-                }
-            }
-            let eff = gamma.map(|g| g * g);
-            let frac: [f64; 6] = std::array::from_fn(|a| {
-                if rb_total[a] > 0.0 {
-                    eff[a] / rb_total[a]
-                } else {
-                    0.0
-                }
-            });
-            let f = lambda.signum() * lambda.abs().sqrt() / two_pi;
-            Mode {
-                index: idx + 1,
-                frequency_hz: f,
-                participation: Dir6::from_array(gamma),
-                effective_mass: Dir6::from_array(eff),
-                effective_mass_fraction: Dir6::from_array(frac),
-                shape,
-                eigenvalue: lambda,
-            }
-        })
-        .collect();
-    ModalResult {
-        total_mass_kg: total_mass,
-        center_of_mass_m: cm,
-        rigid_body_mass: Dir6::from_array(rb),
-        total_rigid_body_mass: Dir6::from_array(rb_total),
-        dofs: red.n_red,
-        solver: solver.to_string(),
-        modes,
-        prestress,
-        sparse: None,
+    // Sign convention: the largest-magnitude component (first one on ties) is positive.
+    let mut imax = 0;
+    for (i, v) in shape.iter().enumerate() {
+        if v.abs() > shape[imax].abs() * (1.0 + 1e-12) {
+            imax = i;
+        }
+    }
+    if shape[imax] < 0.0 {
+        shape.iter_mut().for_each(|v| *v = -*v);
+    }
+    let mut gamma = [0.0; 6];
+    for (i, s) in shape.iter().enumerate() {
+        for a in 0..6 {
+            gamma[a] += s * md[i][a];
+        }
+    }
+    let eff = gamma.map(|g| g * g);
+    let frac: [f64; 6] = std::array::from_fn(|a| {
+        if rb_total[a] > 0.0 {
+            eff[a] / rb_total[a]
+        } else {
+            0.0
+        }
+    });
+    let f = lambda.signum() * lambda.abs().sqrt() / two_pi;
+    Mode {
+        index: idx + 1,
+        frequency_hz: f,
+        participation: Dir6::from_array(gamma),
+        effective_mass: Dir6::from_array(eff),
+        effective_mass_fraction: Dir6::from_array(frac),
+        shape,
+        eigenvalue: lambda,
     }
 }
 
@@ -469,71 +564,85 @@ fn align_degenerate(
         while end < pairs.len() && (pairs[end].0 - l0).abs() <= 1e-7 * l0.abs().max(1e-6) {
             end += 1;
         }
-        let k = end - start;
-        if k > 1 {
-            // Γ[i][a] for the cluster's modes.
-            let gamma: Vec<[f64; 6]> = (start..end)
-                .map(|c| {
-                    let mut g = [0.0; 6];
-                    for (i, s) in pairs[c].1.iter().enumerate() {
-                        for a in 0..6 {
-                            g[a] += s * md[i][a];
-                        }
-                    }
-                    g
-                })
-                .collect();
-            let negligible = (0..6)
-                .all(|a| gamma.iter().map(|g| g[a] * g[a]).sum::<f64>() <= 1e-12 * rb_total[a]);
-            if negligible {
-                start = end;
-                continue;
-            }
-            let gnorm: f64 = gamma
-                .iter()
-                .flat_map(|g| g.iter())
-                .map(|x| x * x)
-                .sum::<f64>()
-                .sqrt();
-            let mut q: Vec<Vec<f64>> = Vec::new();
-            let candidates = (0..6)
-                .map(|a| (0..k).map(|i| gamma[i][a]).collect::<Vec<f64>>())
-                .chain((0..k).map(|i| (0..k).map(|j| if i == j { 1.0 } else { 0.0 }).collect()));
-            for mut v in candidates {
-                if q.len() == k {
-                    break;
-                }
-                for _ in 0..2 {
-                    for b in &q {
-                        let d: f64 = v.iter().zip(b).map(|(x, y)| x * y).sum();
-                        v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
-                    }
-                }
-                let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-                if n > 1e-6 * gnorm.max(1e-300) && n > 1e-8 {
-                    q.push(v.into_iter().map(|x| x / n).collect());
-                }
-            }
-            // New shapes = old shapes · Qᵀ, as one matrix product (clusters of a few hundred
-            // repeated local modes make this k²·n).
-            let dofs = pairs[start].1.len();
-            let old = faer::Mat::<f64>::from_fn(dofs, k, |r, i| pairs[start + i].1[r]);
-            let qt = faer::Mat::<f64>::from_fn(k, q.len(), |i, j| q[j][i]);
-            let mut new = faer::Mat::<f64>::zeros(dofs, q.len());
-            faer::linalg::matmul::matmul(
-                new.as_mut(),
-                faer::Accum::Replace,
-                old.as_ref(),
-                qt.as_ref(),
-                1.0,
-                faer::Par::Seq,
-            );
-            for j in 0..q.len() {
-                let col = new.col(j);
-                pairs[start + j].1 = (0..dofs).map(|r| col[r]).collect();
-            }
+        if end - start > 1 {
+            align_cluster(&mut pairs[start..end], md, rb_total);
         }
         start = end;
     }
     pairs
+}
+
+/// Rotates one cluster of repeated eigenvalues so that its participation is sorted by
+/// direction (see [`align_degenerate`]); a cluster with no participation is left alone.
+fn align_cluster(cluster: &mut [(f64, Vec<f64>)], md: &[[f64; 6]], rb_total: &[f64; 6]) {
+    let k = cluster.len();
+    // Γ[i][a] for the cluster's modes.
+    let gamma: Vec<[f64; 6]> = cluster
+        .iter()
+        .map(|(_, shape)| {
+            let mut g = [0.0; 6];
+            for (i, s) in shape.iter().enumerate() {
+                for a in 0..6 {
+                    g[a] += s * md[i][a];
+                }
+            }
+            g
+        })
+        .collect();
+    let negligible =
+        (0..6).all(|a| gamma.iter().map(|g| g[a] * g[a]).sum::<f64>() <= 1e-12 * rb_total[a]);
+    if negligible {
+        return;
+    }
+    let q = participation_basis(&gamma);
+    // New shapes = old shapes · Qᵀ, as one matrix product (clusters of a few hundred
+    // repeated local modes make this k²·n).
+    let dofs = cluster[0].1.len();
+    let old = faer::Mat::<f64>::from_fn(dofs, k, |r, i| cluster[i].1[r]);
+    let qt = faer::Mat::<f64>::from_fn(k, q.len(), |i, j| q[j][i]);
+    let mut new = faer::Mat::<f64>::zeros(dofs, q.len());
+    faer::linalg::matmul::matmul(
+        new.as_mut(),
+        faer::Accum::Replace,
+        old.as_ref(),
+        qt.as_ref(),
+        1.0,
+        faer::Par::Seq,
+    );
+    for j in 0..q.len() {
+        let col = new.col(j);
+        cluster[j].1 = (0..dofs).map(|r| col[r]).collect();
+    }
+}
+
+/// An orthonormal basis of the cluster's k-space: Gram–Schmidt (twice) on the participation
+/// columns x, y, z, rx, ry, rz first, then the unit vectors to complete it.
+fn participation_basis(gamma: &[[f64; 6]]) -> Vec<Vec<f64>> {
+    let k = gamma.len();
+    let gnorm: f64 = gamma
+        .iter()
+        .flat_map(|g| g.iter())
+        .map(|x| x * x)
+        .sum::<f64>()
+        .sqrt();
+    let mut q: Vec<Vec<f64>> = Vec::new();
+    let candidates = (0..6)
+        .map(|a| (0..k).map(|i| gamma[i][a]).collect::<Vec<f64>>())
+        .chain((0..k).map(|i| (0..k).map(|j| if i == j { 1.0 } else { 0.0 }).collect()));
+    for mut v in candidates {
+        if q.len() == k {
+            break;
+        }
+        for _ in 0..2 {
+            for b in &q {
+                let d: f64 = v.iter().zip(b).map(|(x, y)| x * y).sum();
+                v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
+            }
+        }
+        let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if n > 1e-6 * gnorm.max(1e-300) && n > 1e-8 {
+            q.push(v.into_iter().map(|x| x / n).collect());
+        }
+    }
+    q
 }

@@ -1,12 +1,12 @@
 //! Guide bars as flexible cantilevers in modal coordinates (paper §3.2, floating frame with the
 //! frame fixed at the clamped root, so no rigid motion): the lateral deflection in x and in y at
 //! height z is u(z) = Σ φ_j(z)·q_j. Shapes and frequencies come from
-//! `fem::cantilever_bar_modes` (mass-normalised, sampled at stations); a natural cubic spline
+//! [`super::bar_modes::cantilever_bar_modes`] (mass-normalised, sampled at stations); a natural cubic spline
 //! through the stations gives φ and φ' continuously, so the right-hand side stays smooth while a
 //! bore edge slides along the bar (a piecewise-linear shape would put a kink into every step).
 
-use crate::error::SeparationError;
-use crate::fem::{BarModes, cantilever_bar_modes};
+use super::bar_modes::{BarModes, cantilever_bar_modes};
+use crate::error::{Error, SeparationError};
 use crate::spec::Material;
 
 /// One sampled function on uniform stations with its natural cubic spline moments.
@@ -91,15 +91,16 @@ impl ModalBar {
         elements: usize,
         n_modes: usize,
         damping_ratio: f64,
-    ) -> Result<ModalBar, SeparationError> {
+    ) -> Result<ModalBar, Error> {
+        // The FE and modal errors stay typed: they already name the node, DOF or pivot.
         let modes: BarModes =
-            cantilever_bar_modes(length_m, diameter_m, material, elements, n_modes)
-                .map_err(|e| SeparationError::Invalid(format!("guide-bar modes: {e}")))?;
+            cantilever_bar_modes(length_m, diameter_m, material, elements, n_modes)?;
         if modes.shapes.len() < n_modes {
             return Err(SeparationError::Invalid(format!(
                 "guide-bar modes: asked for {n_modes} modes, the bar model gave {}",
                 modes.shapes.len()
-            )));
+            ))
+            .into());
         }
         let st = &modes.stations_m;
         let h = st[1] - st[0];
@@ -108,7 +109,8 @@ impl ModalBar {
             if ((w[1] - w[0]) - h).abs() > 1e-9 * length_m {
                 return Err(SeparationError::Invalid(
                     "guide-bar modes: stations are not uniform".into(),
-                ));
+                )
+                .into());
             }
         }
         let shapes: Vec<Spline> = modes

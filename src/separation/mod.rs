@@ -14,6 +14,7 @@
 //! `montecarlo` (dispersed runs and percentiles).
 
 pub mod bar;
+pub mod bar_modes;
 pub mod body;
 pub mod contact;
 pub mod integrator;

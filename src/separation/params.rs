@@ -1,7 +1,7 @@
 //! The separation model's parameters: one plain struct, [`Model`], built from a validated
 //! scene by [`Model::from_scene`]. Geometry (satellites, columns, bores, bars, masses) comes
 //! from `[stack]`; springs, schedule, contact, tolerance and dispersions from `[separation]`;
-//! bar modes from `fem::cantilever_bar_modes` (via [`ModalBar`]). Tests and the Monte Carlo
+//! bar modes from `bar_modes::cantilever_bar_modes` (via [`ModalBar`]). Tests and the Monte Carlo
 //! driver edit the public fields of a built model directly.
 
 use super::bar::ModalBar;

@@ -1,11 +1,13 @@
 //! Lateral bending modes of a guide bar, clamped at its root and free at its tip, for the
-//! separation model's floating-frame (modal) bar. The modes come from this module's FE beam
-//! model (Timoshenko elements with consistent mass), so the separation model and the stack
-//! model describe the same bar; the separation module samples the shapes at the element nodes
-//! and interpolates between them.
+//! separation model's floating-frame (modal) bar. The modes come from the `fem` beam model
+//! (Timoshenko elements with consistent mass) solved by `modal`, so the separation model and
+//! the stack model describe the same bar; [`super::bar`] samples the shapes at the element
+//! nodes and interpolates between them. This lives beside its only user rather than in `fem`,
+//! which sits below `modal` and must not call it.
 
-use super::FeModel;
-use crate::error::FemError;
+use crate::error::{Error, SeparationError};
+use crate::fem::FeModel;
+use crate::modal::{ModalOptions, analyze};
 use crate::spec::{Beam, Material, Node, SceneFile, Section, Support, Theory};
 
 /// Mass-normalised lateral modes of one bending plane (a circular bar has the same modes in x
@@ -31,11 +33,12 @@ pub fn cantilever_bar_modes(
     material: &Material,
     elements: usize,
     n_modes: usize,
-) -> Result<BarModes, FemError> {
+) -> Result<BarModes, Error> {
     if !(length_m > 0.0 && diameter_m > 0.0) || elements == 0 {
-        return Err(FemError::Invalid(
-            "bar length, diameter and elements must be positive".into(),
-        ));
+        return Err(SeparationError::Invalid(
+            "guide-bar modes: bar length, diameter and elements must be positive".into(),
+        )
+        .into());
     }
     // The bar along global x; bending in the x–y plane gives the lateral modes.
     let scene = SceneFile {
@@ -79,11 +82,11 @@ pub fn cantilever_bar_modes(
             model.fixed[n] = [true, false, true, true, true, false];
         }
     }
-    let opts = crate::modal::ModalOptions {
+    let opts = ModalOptions {
         modes: Some(n_modes),
         ..Default::default()
     };
-    let sys = crate::modal::analyze(&model, &opts).map_err(|e| FemError::Invalid(e.to_string()))?;
+    let sys = analyze(&model, &opts)?;
     // Stations in order along the bar: root, interior nodes, tip.
     let mut order: Vec<usize> = (0..model.nodes.len()).collect();
     order.sort_by(|a, b| model.nodes[*a].x[0].total_cmp(&model.nodes[*b].x[0]));
