@@ -18,6 +18,7 @@
 //! x–z plane θy = −dw/dx, which flips the sign of the coupling terms.
 
 use crate::spec::{Section, Theory};
+use nalgebra::Vector3;
 
 /// Cross-section properties in the local axes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -298,20 +299,21 @@ pub fn local_kg(p: &BeamProps, n: f64, l: f64) -> M12 {
 /// Rows are the local x, y, z axes in global coordinates (OpenSees `vecxz` convention:
 /// local z is the part of `orientation` perpendicular to the axis, local y = z × x).
 pub fn rotation(a: [f64; 3], b: [f64; 3], orientation: [f64; 3]) -> [[f64; 3]; 3] {
-    let x = normalize([b[0] - a[0], b[1] - a[1], b[2] - a[2]]);
-    let d = dot(orientation, x);
-    let z = normalize([
-        orientation[0] - d * x[0],
-        orientation[1] - d * x[1],
-        orientation[2] - d * x[2],
-    ]);
-    let y = cross(z, x);
-    [x, y, z]
+    let x = axis(a, b);
+    let o = Vector3::from(orientation);
+    let z = (o - x * o.dot(&x)).normalize();
+    let y = z.cross(&x);
+    [x.into(), y.into(), z.into()]
+}
+
+/// Unit vector from `a` to `b`.
+fn axis(a: [f64; 3], b: [f64; 3]) -> Vector3<f64> {
+    (Vector3::from(b) - Vector3::from(a)).normalize()
 }
 
 /// Default orientation: global z, or global y for a member along z.
 pub fn default_orientation(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    let x = normalize([b[0] - a[0], b[1] - a[1], b[2] - a[2]]);
+    let x = axis(a, b);
     if x[2].abs() > 0.999 {
         [0.0, 1.0, 0.0]
     } else {
@@ -347,23 +349,6 @@ pub fn to_global(kl: &M12, r: &[[f64; 3]; 3]) -> M12 {
         }
     }
     out
-}
-
-pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let n = dot(a, a).sqrt();
-    [a[0] / n, a[1] / n, a[2] / n]
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@
 use super::beam::{self, BeamProps, SectionProps};
 use crate::error::FemError;
 use crate::spec::{SceneFile, Theory};
+use nalgebra::Vector3;
 use std::collections::HashMap;
 
 pub const DOF_NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
@@ -147,8 +148,7 @@ impl FeModel {
                 });
             }
             chain.push(c);
-            let length =
-                crate::spec::model::norm([xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]]) / ne as f64;
+            let length = (Vector3::from(xc) - Vector3::from(xa)).norm() / ne as f64;
             for w in chain.windows(2) {
                 beams.push(BeamElement {
                     nodes: [w[0], w[1]],

@@ -1,89 +1,48 @@
-//! Rigid-body kinematics for the satellites (and a free carrier): unit quaternions for a
-//! singularity-free attitude, rotation matrices, and the small 3-vector algebra the force
-//! assembly needs. Pure functions; the state layout lives in `sim`.
-//!
-//! Why hand-written and not nalgebra: these are a dozen one-line formulas on `[f64; 3]` that
-//! sit inside the right-hand side; plain arrays keep the state a flat `&[f64]` slice for the
-//! integrator without conversions.
+//! Rigid-body kinematics for the satellites (and a free carrier) on nalgebra's fixed-size
+//! types: quaternions for a singularity-free attitude (their rotation matrix and rate written
+//! out, see [`rotation`]), Euler's equations. Pure functions; the state layout lives in `sim::layout`, and these read a body's
+//! entries straight out of the flat state slice the integrator works on.
 
-pub type V3 = [f64; 3];
-pub type M3 = [[f64; 3]; 3];
+use nalgebra::{Matrix3, Vector3};
+
+pub type V3 = Vector3<f64>;
+pub type M3 = Matrix3<f64>;
 
 /// Number of state entries per rigid body: position (3), quaternion w,x,y,z (4), velocity (3),
 /// angular velocity in body axes (3).
 pub const BODY_STATES: usize = 13;
 
-#[inline]
-pub fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-#[inline]
-pub fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-#[inline]
-pub fn scale(a: V3, s: f64) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-#[inline]
-pub fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-#[inline]
-pub fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-#[inline]
-pub fn norm(a: V3) -> f64 {
-    dot(a, a).sqrt()
+/// The 3-vector at `s[at..at + 3]`.
+#[inline(always)]
+pub fn v3_at(s: &[f64], at: usize) -> V3 {
+    V3::from_column_slice(&s[at..at + 3])
 }
 
 /// Rotation matrix (body → world) of the quaternion `q = [w, x, y, z]`, normalised here so a
-/// slow drift of |q| in the integrated state never distorts the body.
+/// slow drift of |q| in the integrated state never distorts the body. Written out rather than
+/// `UnitQuaternion::new_normalize(..).to_rotation_matrix()`: that rounds differently (a square
+/// root, then the unit-quaternion formula), and the contact sequence of a release amplifies a
+/// last-bit change to 3e-7 of the exit rates even on rigid bars.
 #[inline]
 pub fn rotation(q: &[f64]) -> M3 {
     let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
     let s = 2.0 / n2;
     let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
-    [
-        [
-            1.0 - s * (y * y + z * z),
-            s * (x * y - w * z),
-            s * (x * z + w * y),
-        ],
-        [
-            s * (x * y + w * z),
-            1.0 - s * (x * x + z * z),
-            s * (y * z - w * x),
-        ],
-        [
-            s * (x * z - w * y),
-            s * (y * z + w * x),
-            1.0 - s * (x * x + y * y),
-        ],
-    ]
+    M3::new(
+        1.0 - s * (y * y + z * z),
+        s * (x * y - w * z),
+        s * (x * z + w * y),
+        s * (x * y + w * z),
+        1.0 - s * (x * x + z * z),
+        s * (y * z - w * x),
+        s * (x * z - w * y),
+        s * (y * z + w * x),
+        1.0 - s * (x * x + y * y),
+    )
 }
 
-#[inline]
-pub fn mul(m: &M3, v: V3) -> V3 {
-    [dot(m[0], v), dot(m[1], v), dot(m[2], v)]
-}
-
-/// mᵀ·v.
-#[inline]
-pub fn mul_t(m: &M3, v: V3) -> V3 {
-    [
-        m[0][0] * v[0] + m[1][0] * v[1] + m[2][0] * v[2],
-        m[0][1] * v[0] + m[1][1] * v[1] + m[2][1] * v[2],
-        m[0][2] * v[0] + m[1][2] * v[1] + m[2][2] * v[2],
-    ]
-}
-
-/// q̇ = ½ q ⊗ (0, ω_body).
+/// q̇ = ½ q ⊗ (0, ω_body), as `[w, x, y, z]`; written out for the same reason as
+/// [`rotation`] (the quaternion product sums its terms in another order).
 #[inline]
 pub fn quat_rate(q: &[f64], w: V3) -> [f64; 4] {
     [
@@ -97,32 +56,65 @@ pub fn quat_rate(q: &[f64], w: V3) -> [f64; 4] {
 /// Euler's equations in principal body axes: I ω̇ = τ − ω × Iω.
 #[inline]
 pub fn angular_accel(inertia: V3, w: V3, torque_body: V3) -> V3 {
-    let iw = [inertia[0] * w[0], inertia[1] * w[1], inertia[2] * w[2]];
-    let g = cross(w, iw);
-    [
-        (torque_body[0] - g[0]) / inertia[0],
-        (torque_body[1] - g[1]) / inertia[1],
-        (torque_body[2] - g[2]) / inertia[2],
-    ]
+    let iw = inertia.component_mul(&w);
+    (torque_body - w.cross(&iw)).component_div(&inertia)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::{Quaternion, UnitQuaternion};
 
+    /// The quaternion stored as `[w, x, y, z]` in `q`.
+    fn quaternion(q: &[f64]) -> Quaternion<f64> {
+        Quaternion::new(q[0], q[1], q[2], q[3])
+    }
+
+    /// A rotation by 0.6 rad about the unit axis (0.6, 0, 0.8): orthonormal, right-handed, and
+    /// the axis is fixed (by definition of a rotation). Tolerance: roundings of unit vectors.
     #[test]
     fn quaternion_rotation_is_orthonormal_and_right_handed() {
         let h = (0.3f64).sin();
         let q = [0.3f64.cos(), h * 0.6, h * 0.0, h * 0.8];
         let r = rotation(&q);
-        let x = mul(&r, [1.0, 0.0, 0.0]);
-        let y = mul(&r, [0.0, 1.0, 0.0]);
-        let z = mul(&r, [0.0, 0.0, 1.0]);
-        assert!((dot(x, y)).abs() < 1e-15 && (norm(z) - 1.0).abs() < 1e-15);
-        let c = cross(x, y);
-        assert!(norm(sub(c, z)) < 1e-15);
-        // Rotation by 0.6 rad about (0.6, 0, 0.8) leaves the axis fixed.
-        let a = mul(&r, [0.6, 0.0, 0.8]);
-        assert!(norm(sub(a, [0.6, 0.0, 0.8])) < 1e-15);
+        let (x, y, z) = (r * V3::x(), r * V3::y(), r * V3::z());
+        assert!(x.dot(&y).abs() < 1e-15 && (z.norm() - 1.0).abs() < 1e-15);
+        assert!((x.cross(&y) - z).norm() < 1e-15);
+        let axis = V3::new(0.6, 0.0, 0.8);
+        assert!((r * axis - axis).norm() < 1e-15);
+    }
+
+    /// The written-out matrix and rate are nalgebra's unit-quaternion rotation and
+    /// quaternion product, to roundings, for an unnormalised q (|q| ≈ 1.14).
+    #[test]
+    fn rotation_matches_the_unit_quaternion_rotation() {
+        let q = [0.55, -0.33, 0.77, 0.55];
+        let r = rotation(&q);
+        let u = UnitQuaternion::new_normalize(quaternion(&q))
+            .to_rotation_matrix()
+            .into_inner();
+        assert!((r - u).abs().max() < 1e-15, "{r} vs {u}");
+        let w = V3::new(0.2, -0.4, 0.6);
+        let by_product = quaternion(&q) * Quaternion::from_imag(w) * 0.5;
+        let d = quat_rate(&q, w);
+        let by_product = [by_product.w, by_product.i, by_product.j, by_product.k];
+        for a in 0..4 {
+            assert!(
+                (d[a] - by_product[a]).abs() < 1e-15,
+                "{d:?} vs {by_product:?}"
+            );
+        }
+    }
+
+    /// q̇ = ½ q ⊗ (0, ω) at the identity is (0, ω/2), and for a quarter turn about z spinning
+    /// about body x it is ½ (cos 45°, 0, 0, sin 45°) ⊗ (0, ω, 0, 0), by hand.
+    #[test]
+    fn quaternion_rate_is_half_the_product_with_the_body_rate() {
+        let w = V3::new(0.2, -0.4, 0.6);
+        assert_eq!(quat_rate(&[1.0, 0.0, 0.0, 0.0], w), [-0.0, 0.1, -0.2, 0.3]);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let d = quat_rate(&[h, 0.0, 0.0, h], V3::new(2.0, 0.0, 0.0));
+        // (h + h k)(2 i) = 2h i + 2h (k i) = 2h i + 2h j.
+        assert_eq!(d, [0.0, h, h, 0.0]);
     }
 }

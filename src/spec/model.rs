@@ -4,6 +4,7 @@
 
 use super::Locator;
 use crate::error::SpecError;
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::collections::{HashMap, HashSet};
 
@@ -273,9 +274,10 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         if b.elements == 0 {
             return Err(loc.err(&k("elements"), "must be at least 1"));
         }
-        let axis = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let len = norm(axis);
-        let scale = norm(a).max(norm(c)).max(1.0);
+        let (a, c) = (Vector3::from(a), Vector3::from(c));
+        let axis = c - a;
+        let len = axis.norm();
+        let scale = a.norm().max(c.norm()).max(1.0);
         if len <= 1e-12 * scale {
             return Err(loc.err(
                 &k("nodes"),
@@ -286,16 +288,12 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
             ));
         }
         if let Some(o) = b.orientation {
-            let on = norm(o);
+            let o = Vector3::from(o);
+            let on = o.norm();
             if on == 0.0 {
                 return Err(loc.err(&k("orientation"), "the orientation vector is zero"));
             }
-            let cross = [
-                axis[1] * o[2] - axis[2] * o[1],
-                axis[2] * o[0] - axis[0] * o[2],
-                axis[0] * o[1] - axis[1] * o[0],
-            ];
-            if norm(cross) <= 1e-6 * len * on {
+            if axis.cross(&o).norm() <= 1e-6 * len * on {
                 return Err(loc.err(
                     &k("orientation"),
                     "the orientation vector is parallel to the beam axis: it must define the local x-z plane",
@@ -465,8 +463,4 @@ fn nonneg(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
     } else {
         Err(loc.err(key, format!("must not be negative, got {v}")))
     }
-}
-
-pub(crate) fn norm(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }

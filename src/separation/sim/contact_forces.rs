@@ -3,7 +3,7 @@
 //! regularised Coulomb friction at the contact point on the bore, equal and opposite on the
 //! carrier, and the generalised forces on the bar modes.
 
-use super::super::body::{add, cross, mul, mul_t, norm, scale, sub};
+use super::super::body::V3;
 use super::Sim;
 use super::edges::EdgeKin;
 use super::forces::Loads;
@@ -36,14 +36,14 @@ impl Sim<'_> {
             p_contact += (fnrm - fel) * ek.delta_dot;
             let n = ek.n;
             // −F·∇δ: lateral along n, axial from the bar slope.
-            let f_loc = [
+            let f_loc = V3::new(
                 fnrm * n[0],
                 fnrm * n[1],
                 -fnrm * (n[0] * ek.slope[0] + n[1] * ek.slope[1]),
-            ];
-            let f_w = mul(&c0.r, f_loc);
+            );
+            let f_w = c0.r * f_loc;
             loads.apply(i, f_w, ek.p);
-            loads.apply(0, scale(f_w, -1.0), ek.p);
+            loads.apply(0, -f_w, ek.p);
             let mut bar_f = [-fnrm * n[0], -fnrm * n[1]];
             if c.friction > 0.0
                 && let Some(p) = self.friction_load(&ek, i, fnrm, loads, &mut bar_f)
@@ -75,30 +75,24 @@ impl Sim<'_> {
         let frames = loads.frames;
         let (c0, s) = (&frames[0], &frames[i]);
         let n = ek.n;
-        let rc = mul(
-            &c0.r,
-            [
-                self.m.bore_radius_m * n[0],
-                self.m.bore_radius_m * n[1],
-                0.0,
-            ],
-        );
-        let cpt = add(ek.p, rc);
-        let vc = add(ek.vp, cross(s.w, rc));
-        let vrel_w = sub(sub(vc, c0.v), cross(c0.w, sub(cpt, c0.x)));
-        let vr = mul_t(&c0.r, vrel_w);
-        let vr = [vr[0] - ek.udot[0], vr[1] - ek.udot[1], vr[2]];
+        let br = self.m.bore_radius_m;
+        let rc = c0.r * V3::new(br * n[0], br * n[1], 0.0);
+        let cpt = ek.p + rc;
+        let vc = ek.vp + s.w.cross(&rc);
+        let vrel_w = vc - c0.v - c0.w.cross(&(cpt - c0.x));
+        let vr = c0.r.tr_mul(&vrel_w);
+        let vr = V3::new(vr[0] - ek.udot[0], vr[1] - ek.udot[1], vr[2]);
         let vn = vr[0] * n[0] + vr[1] * n[1];
-        let vt = [vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2]];
-        let vtm = norm(vt);
+        let vt = V3::new(vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2]);
+        let vtm = vt.norm();
         let cd = c.friction_factor(vtm);
         // Not `cd <= 0.0`: a NaN sliding speed must apply no friction either.
         if cd > 0.0 {
             let ft = c.friction * cd * fnrm;
-            let ft_loc = scale(vt, -ft / vtm);
-            let ft_w = mul(&c0.r, ft_loc);
+            let ft_loc = vt * (-ft / vtm);
+            let ft_w = c0.r * ft_loc;
             loads.apply(i, ft_w, cpt);
-            loads.apply(0, scale(ft_w, -1.0), cpt);
+            loads.apply(0, -ft_w, cpt);
             bar_f[0] -= ft_loc[0];
             bar_f[1] -= ft_loc[1];
             Some(ft * vtm)

@@ -4,7 +4,7 @@
 //! then the contact-state machine (eq. 38) of the edges without an event, and the list of
 //! edges whose force the right-hand side evaluates.
 
-use super::super::body::BODY_STATES;
+use super::super::body::{BODY_STATES, v3_at};
 use super::super::contact::ContactState;
 use super::Sim;
 
@@ -79,11 +79,7 @@ impl Sim<'_> {
         let i = ei / 8;
         if self.exit[i].is_none() && self.edges[i * 8..i * 8 + 8].iter().all(|e| e.past_tip) {
             let o = BODY_STATES * (i + 1);
-            self.exit[i] = Some((
-                t,
-                [y[o + 7], y[o + 8], y[o + 9]],
-                [y[o + 10], y[o + 11], y[o + 12]],
-            ));
+            self.exit[i] = Some((t, v3_at(y, o + 7), v3_at(y, o + 10)));
         }
     }
 
@@ -166,6 +162,7 @@ fn next_state(state: ContactState, pressed: bool) -> Option<ContactState> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::super::body::V3;
     use super::super::fixture;
     use super::*;
     use ContactState::*;
@@ -216,7 +213,8 @@ mod tests {
         sim.apply_events(&y, 1.0, &[0.0; 48], &tips[..7], &mut touched);
         assert_eq!(sim.exit[0], None);
         sim.apply_events(&y, 1.25, &[0.0; 48], &tips[7..], &mut touched);
-        assert_eq!(sim.exit[0], Some((1.25, [0.0, 0.0, 0.3], [0.0, 0.0, 0.1])));
+        let exit = Some((1.25, V3::new(0.0, 0.0, 0.3), V3::new(0.0, 0.0, 0.1)));
+        assert_eq!(sim.exit[0], exit);
         assert_eq!(sim.exit[1], None);
     }
 }

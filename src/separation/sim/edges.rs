@@ -2,7 +2,7 @@
 //! body), the offset to the deflected bar centreline, the penetration δ = |e| − c and its rate
 //! δ̇, the contact normal, and the bar slope and deflection rate at the edge height.
 
-use super::super::body::{V3, add, cross, mul, mul_t, sub};
+use super::super::body::V3;
 use super::Sim;
 use super::frames::Frame;
 use crate::spec::separation::MAX_BAR_MODES;
@@ -33,8 +33,8 @@ impl EdgeKin {
             delta_dot: 0.0,
             n: [0.0; 2],
             z,
-            p: [0.0; 3],
-            vp: [0.0; 3],
+            p: V3::zeros(),
+            vp: V3::zeros(),
             slope: [0.0; 2],
             udot: [0.0; 2],
             phi: [0.0; MAX_BAR_MODES],
@@ -62,8 +62,8 @@ impl EdgeRigid {
         EdgeRigid {
             p,
             pl,
-            vp: [0.0; 3],
-            vrel: [0.0; 3],
+            vp: V3::zeros(),
+            vrel: V3::zeros(),
             phi: [0.0; MAX_BAR_MODES],
             dphi: [0.0; MAX_BAR_MODES],
         }
@@ -156,8 +156,8 @@ impl Sim<'_> {
         j: usize,
         k: usize,
     ) -> (V3, V3, V3) {
-        let rb = mul(&s.r, self.edge_body[i - 1][j][k]);
-        let p = add(s.x, rb);
+        let rb = s.r * self.edge_body[i - 1][j][k];
+        let p = s.x + rb;
         (rb, p, self.to_carrier(c0, p))
     }
 
@@ -175,11 +175,11 @@ impl Sim<'_> {
     /// Velocity of the edge point, world and relative to the carrier in its frame.
     #[inline]
     fn edge_velocity(&self, c0: &Frame, s: &Frame, rb: V3, r: &mut EdgeRigid) {
-        r.vp = add(s.v, cross(s.w, rb));
+        r.vp = s.v + s.w.cross(&rb);
         r.vrel = if self.carrier_at_rest {
             r.vp
         } else {
-            mul_t(&c0.r, sub(sub(r.vp, c0.v), cross(c0.w, sub(r.p, c0.x))))
+            c0.r.tr_mul(&(r.vp - c0.v - c0.w.cross(&(r.p - c0.x))))
         };
     }
 

@@ -3,7 +3,7 @@
 //! losses (contact damping, friction, bar damping, contacts cut at the bar tip). Their
 //! difference, the residual, measures the integration error.
 
-use super::super::body::{BODY_STATES, dot};
+use super::super::body::{BODY_STATES, v3_at};
 use super::Sim;
 use super::frames::Frame;
 use super::results::EnergyAudit;
@@ -45,8 +45,8 @@ impl Sim<'_> {
             }
             let (mass, inertia) = self.mass_properties(b);
             let o = BODY_STATES * b;
-            let v = [y[o + 7], y[o + 8], y[o + 9]];
-            kinetic += 0.5 * mass * dot(v, v);
+            let v = v3_at(y, o + 7);
+            kinetic += 0.5 * mass * v.dot(&v);
             for a in 0..3 {
                 kinetic += 0.5 * inertia[a] * y[o + 10 + a].powi(2);
             }

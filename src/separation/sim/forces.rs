@@ -3,9 +3,7 @@
 //! (Newton, quaternion kinematics, Euler), and the dissipated powers the energy audit
 //! integrates.
 
-use super::super::body::{
-    BODY_STATES, V3, add, angular_accel, cross, dot, mul, mul_t, quat_rate, scale, sub,
-};
+use super::super::body::{BODY_STATES, V3, angular_accel, quat_rate, v3_at};
 use super::Sim;
 use super::frames::Frame;
 
@@ -29,8 +27,8 @@ impl Loads<'_> {
     /// Adds force `f` (world) applied at the world point `at` of body `b`.
     #[inline]
     pub(super) fn apply(&mut self, b: usize, f: V3, at: V3) {
-        self.force[b] = add(self.force[b], f);
-        self.torque[b] = add(self.torque[b], cross(sub(at, self.frames[b].x), f));
+        self.force[b] += f;
+        self.torque[b] += (at - self.frames[b].x).cross(&f);
     }
 }
 
@@ -46,9 +44,9 @@ impl Sim<'_> {
             q_gen,
         } = &mut *sc;
         force.clear();
-        force.resize(nb, [0.0; 3]);
+        force.resize(nb, V3::zeros());
         torque.clear();
-        torque.resize(nb, [0.0; 3]);
+        torque.resize(nb, V3::zeros());
         self.update_frames(y, frames);
         let mut loads = Loads {
             frames,
@@ -94,11 +92,10 @@ impl Sim<'_> {
         let s = &self.m.springs[si];
         let up = &frames[s.interface];
         let low = &frames[self.lower_body(s.interface)];
-        let pu = add(up.x, mul(&up.r, self.spring_up[si]));
-        let pl = self.static_spring_low[si]
-            .unwrap_or_else(|| add(low.x, mul(&low.r, self.spring_low[si])));
-        let zl = [low.r[0][2], low.r[1][2], low.r[2][2]];
-        (dot(sub(pu, pl), zl), pu, zl)
+        let pu = up.x + up.r * self.spring_up[si];
+        let pl = self.static_spring_low[si].unwrap_or_else(|| low.x + low.r * self.spring_low[si]);
+        let zl: V3 = low.r.column(2).into();
+        ((pu - pl).dot(&zl), pu, zl)
     }
 
     /// Springs that push (released, short of their end of action): +F on the upper body,
@@ -111,9 +108,9 @@ impl Sim<'_> {
             let (ext, pu, zl) = self.spring_ext(loads.frames, si);
             let f = s.force(ext);
             if f != 0.0 {
-                let fv = scale(zl, f);
+                let fv = zl * f;
                 loads.apply(s.interface, fv, pu);
-                loads.apply(self.lower_body(s.interface), scale(fv, -1.0), pu);
+                loads.apply(self.lower_body(s.interface), -fv, pu);
             }
         }
     }
@@ -147,12 +144,10 @@ impl Sim<'_> {
                 .carrier
                 .as_ref()
                 .expect("a free body 0 is a free carrier");
-            (cp.mass_kg, cp.inertia_kg_m2)
+            (cp.mass_kg, cp.inertia_kg_m2.into())
         } else {
-            (
-                self.m.satellites[b - 1].mass_kg,
-                self.m.satellites[b - 1].inertia_kg_m2,
-            )
+            let s = &self.m.satellites[b - 1];
+            (s.mass_kg, s.inertia_kg_m2.into())
         }
     }
 
@@ -165,13 +160,13 @@ impl Sim<'_> {
             }
             let (mass, inertia) = self.mass_properties(b);
             let o = BODY_STATES * b;
-            let wb = [y[o + 10], y[o + 11], y[o + 12]];
+            let wb = v3_at(y, o + 10);
             dy[o..o + 3].copy_from_slice(&y[o + 7..o + 10]);
             dy[o + 3..o + 7].copy_from_slice(&quat_rate(&y[o + 3..o + 7], wb));
-            let a = scale(loads.force[b], 1.0 / mass);
-            dy[o + 7..o + 10].copy_from_slice(&a);
-            let tb = mul_t(&loads.frames[b].r, loads.torque[b]);
-            dy[o + 10..o + 13].copy_from_slice(&angular_accel(inertia, wb, tb));
+            let a = loads.force[b] * (1.0 / mass);
+            dy[o + 7..o + 10].copy_from_slice(a.as_slice());
+            let tb = loads.frames[b].r.tr_mul(&loads.torque[b]);
+            dy[o + 10..o + 13].copy_from_slice(angular_accel(inertia, wb, tb).as_slice());
         }
     }
 }

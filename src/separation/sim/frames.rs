@@ -1,7 +1,7 @@
 //! Body frames read from the state: position, rotation (body → world), velocity and angular
 //! velocity in world axes of each body, and the map of a world point into the carrier frame.
 
-use super::super::body::{BODY_STATES, M3, V3, mul, mul_t, rotation, sub};
+use super::super::body::{BODY_STATES, M3, V3, rotation, v3_at};
 use super::Sim;
 
 /// One body's frame at one state.
@@ -32,11 +32,10 @@ impl Sim<'_> {
     pub(super) fn frame_of(&self, y: &[f64], b: usize) -> Frame {
         let o = BODY_STATES * b;
         let r = rotation(&y[o + 3..o + 7]);
-        let wb = [y[o + 10], y[o + 11], y[o + 12]];
         Frame {
-            x: [y[o], y[o + 1], y[o + 2]],
-            v: [y[o + 7], y[o + 8], y[o + 9]],
-            w: mul(&r, wb),
+            x: v3_at(y, o),
+            v: v3_at(y, o + 7),
+            w: r * v3_at(y, o + 10),
             r,
         }
     }
@@ -54,14 +53,13 @@ impl Sim<'_> {
         if self.carrier_at_rest {
             p
         } else {
-            mul_t(&c0.r, sub(p, c0.x))
+            c0.r.tr_mul(&(p - c0.x))
         }
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::super::body::{cross, norm};
     use super::super::fixture;
     use super::*;
 
@@ -77,12 +75,12 @@ mod tests {
         y[13 + 3..13 + 7].copy_from_slice(&[h, 0.0, 0.0, h]);
         y[13 + 10] = 2.0;
         let f = sim.frame_of(&y, 1);
-        assert!(norm(sub(mul(&f.r, [1.0, 0.0, 0.0]), [0.0, 1.0, 0.0])) < 1e-15);
-        assert!(norm(sub(f.w, [0.0, 2.0, 0.0])) < 1e-15);
+        assert!((f.r * V3::x() - V3::y()).norm() < 1e-15);
+        assert!((f.w - V3::new(0.0, 2.0, 0.0)).norm() < 1e-15);
         // Right-handed: body x × body y = body z stays world z.
-        let z = cross(mul(&f.r, [1.0, 0.0, 0.0]), mul(&f.r, [0.0, 1.0, 0.0]));
-        assert!(norm(sub(z, [0.0, 0.0, 1.0])) < 1e-15);
-        assert_eq!(f.x, [0.01, -0.02, 0.7 + 0.25 + 0.03]);
+        let z = (f.r * V3::x()).cross(&(f.r * V3::y()));
+        assert!((z - V3::z()).norm() < 1e-15);
+        assert_eq!(f.x, V3::new(0.01, -0.02, 0.7 + 0.25 + 0.03));
     }
 
     /// A carrier displaced by (1, 2, 3) and turned a quarter turn about z: the world point
@@ -95,7 +93,7 @@ mod tests {
         let h = std::f64::consts::FRAC_1_SQRT_2;
         y[..7].copy_from_slice(&[1.0, 2.0, 3.0, h, 0.0, 0.0, h]);
         let c0 = sim.frame_of(&y, 0);
-        let p = sim.to_carrier(&c0, [1.0, 3.0, 3.0]);
-        assert!(norm(sub(p, [1.0, 0.0, 0.0])) < 1e-15);
+        let p = sim.to_carrier(&c0, V3::new(1.0, 3.0, 3.0));
+        assert!((p - V3::x()).norm() < 1e-15);
     }
 }

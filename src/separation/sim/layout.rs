@@ -4,22 +4,20 @@
 //! damping, friction, bar damping). Here: the initial state, the absolute tolerances per
 //! entry, and the name of the entry that went non-finite.
 
-use super::super::body::{BODY_STATES, V3};
+use super::super::body::{BODY_STATES, V3, v3_at};
 use super::Sim;
 use crate::error::SeparationError;
 
 /// Velocity of body `b` in the state `y`, world axes.
 #[inline]
 pub(super) fn body_velocity(y: &[f64], b: usize) -> V3 {
-    let o = BODY_STATES * b;
-    [y[o + 7], y[o + 8], y[o + 9]]
+    v3_at(y, BODY_STATES * b + 7)
 }
 
 /// Angular rate of body `b` in the state `y`, body axes.
 #[inline]
 pub(super) fn body_rate(y: &[f64], b: usize) -> V3 {
-    let o = BODY_STATES * b;
-    [y[o + 10], y[o + 11], y[o + 12]]
+    v3_at(y, BODY_STATES * b + 10)
 }
 
 impl Sim<'_> {
@@ -117,9 +115,9 @@ mod tests {
         let sim = Sim::new(&m);
         let y = sim.initial_state();
         assert_eq!(y.len(), 13 * 3 + 3);
-        assert_eq!(body_velocity(&y, 2), [0.1, -0.2, 0.3]);
-        assert_eq!(body_rate(&y, 2), [0.01, 0.02, -0.03]);
-        assert_eq!(body_velocity(&y, 1), [0.0; 3]);
+        assert_eq!(body_velocity(&y, 2), V3::new(0.1, -0.2, 0.3));
+        assert_eq!(body_rate(&y, 2), V3::new(0.01, 0.02, -0.03));
+        assert_eq!(body_velocity(&y, 1), V3::zeros());
         // Satellite 2's CG: column-segment centre (bottom 0.2 + half pitch 0.25) + offset.
         assert_eq!(&y[26..30], &[0.01, -0.02, 0.2 + 0.25 + 0.03, 1.0]);
     }

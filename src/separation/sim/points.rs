@@ -13,10 +13,10 @@ pub(super) fn edge_points(m: &Model) -> Vec<[[V3; 2]; 4]> {
         .iter()
         .map(|s| {
             let c = s.cg_offset_m;
-            let mut e = [[[0.0; 3]; 2]; 4];
+            let mut e = [[V3::zeros(); 2]; 4];
             for (j, xy) in m.columns_xy.iter().enumerate() {
-                e[j][0] = [xy[0] - c[0], xy[1] - c[1], -hp - c[2]];
-                e[j][1] = [xy[0] - c[0], xy[1] - c[1], hp - c[2]];
+                e[j][0] = V3::new(xy[0] - c[0], xy[1] - c[1], -hp - c[2]);
+                e[j][1] = V3::new(xy[0] - c[0], xy[1] - c[1], hp - c[2]);
             }
             e
         })
@@ -33,13 +33,13 @@ pub(super) fn spring_points(m: &Model) -> (Vec<V3>, Vec<V3>) {
     for s in &m.springs {
         let xy = m.columns_xy[s.column];
         let cu = m.satellites[s.interface - 1].cg_offset_m;
-        spring_up.push([xy[0] - cu[0], xy[1] - cu[1], -hp - cu[2]]);
+        spring_up.push(V3::new(xy[0] - cu[0], xy[1] - cu[1], -hp - cu[2]));
         if s.interface < n {
             let cl = m.satellites[s.interface].cg_offset_m;
-            spring_low.push([xy[0] - cl[0], xy[1] - cl[1], hp - cl[2]]);
+            spring_low.push(V3::new(xy[0] - cl[0], xy[1] - cl[1], hp - cl[2]));
         } else {
             // Carrier frame: origin at the bar root (= the carrier's CG).
-            spring_low.push([xy[0], xy[1], m.base_height_m]);
+            spring_low.push(V3::new(xy[0], xy[1], m.base_height_m));
         }
     }
     (spring_up, spring_low)
@@ -58,13 +58,13 @@ mod tests {
         let e = edge_points(&m);
         let c = m.satellites[0].cg_offset_m;
         // Satellite 1, column 0 (+, +): bottom and top.
-        assert_eq!(e[0][0][0], [0.5 - c[0], 0.4 - c[1], -0.25 - c[2]]);
-        assert_eq!(e[0][0][1], [0.5 - c[0], 0.4 - c[1], 0.25 - c[2]]);
+        assert_eq!(e[0][0][0], V3::new(0.5 - c[0], 0.4 - c[1], -0.25 - c[2]));
+        assert_eq!(e[0][0][1], V3::new(0.5 - c[0], 0.4 - c[1], 0.25 - c[2]));
         let (up, low) = spring_points(&m);
         // Spring 0: interface 1 (below satellite 1, above satellite 2), column 0.
         assert_eq!(up[0], e[0][0][0]);
         assert_eq!(low[0], e[1][0][1]);
         // Springs 4..8: interface 2, on the carrier's base.
-        assert_eq!(low[4], [0.5, 0.4, m.base_height_m]);
+        assert_eq!(low[4], V3::new(0.5, 0.4, m.base_height_m));
     }
 }

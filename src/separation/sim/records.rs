@@ -2,7 +2,7 @@
 //! smallest axial gap between neighbours, the largest energy residual, the sampled
 //! histories; and the results assembled from them at the end.
 
-use super::super::body::{BODY_STATES, add, mul, norm, scale};
+use super::super::body::BODY_STATES;
 use super::super::integrator::Dopri5;
 use super::Sim;
 use super::layout::{body_rate, body_velocity};
@@ -61,12 +61,11 @@ impl Sim<'_> {
             if !self.free[i + 1] {
                 continue;
             }
-            let o = BODY_STATES * (i + 1);
             let v = body_velocity(&ig.y, i + 1);
             let w = body_rate(&ig.y, i + 1);
-            rec.max_speed[i] = rec.max_speed[i].max(norm(v));
-            rec.max_acc[i] = rec.max_acc[i].max(norm([dyv[o + 7], dyv[o + 8], dyv[o + 9]]));
-            rec.peak_rate[i] = rec.peak_rate[i].max(norm(w).to_degrees());
+            rec.max_speed[i] = rec.max_speed[i].max(v.norm());
+            rec.max_acc[i] = rec.max_acc[i].max(body_velocity(dyv, i + 1).norm());
+            rec.peak_rate[i] = rec.peak_rate[i].max(w.norm().to_degrees());
         }
         for (k, pm) in rec.pair_min.iter_mut().enumerate() {
             if self.free[k + 1] && self.free[k + 2] {
@@ -84,8 +83,8 @@ impl Sim<'_> {
         let (a, b) = (self.frame(y, k), self.frame(y, k + 1));
         (0..4)
             .map(|j| {
-                let pa = add(a.x, mul(&a.r, self.edge_body[k - 1][j][0]));
-                let pb = add(b.x, mul(&b.r, self.edge_body[k][j][1]));
+                let pa = a.x + a.r * self.edge_body[k - 1][j][0];
+                let pb = b.x + b.r * self.edge_body[k][j][1];
                 pa[2] - pb[2]
             })
             .fold(f64::INFINITY, f64::min)
@@ -105,11 +104,11 @@ impl Sim<'_> {
                 v[0],
                 v[1],
                 v[2],
-                norm(v),
+                v.norm(),
                 w[0].to_degrees(),
                 w[1].to_degrees(),
                 w[2].to_degrees(),
-                norm(w).to_degrees(),
+                w.norm().to_degrees(),
             ]);
         }
         let e = self.energy(y);
@@ -168,10 +167,10 @@ impl Sim<'_> {
             max_speed_m_s: rec.max_speed[i],
             max_accel_m_s2: rec.max_acc[i],
             peak_rate_deg_s: rec.peak_rate[i],
-            final_speed_m_s: norm(v),
-            final_rate_deg_s: norm(w).to_degrees(),
-            final_velocity_m_s: v,
-            final_rate_body_deg_s: scale(w, 180.0 / std::f64::consts::PI),
+            final_speed_m_s: v.norm(),
+            final_rate_deg_s: w.norm().to_degrees(),
+            final_velocity_m_s: v.into(),
+            final_rate_body_deg_s: (w * (180.0 / std::f64::consts::PI)).into(),
             exit_time_s: self.exit[i].map(|_| t_exit - rel.unwrap_or(0.0)),
             contacts: self.contacts[i],
         }

@@ -3,7 +3,7 @@
 //! that is not free has a zero derivative, so its state stays bit-for-bit what it was when the
 //! cache was built, and the cache changes no bit of the results.
 
-use super::super::body::{add, mul};
+use super::super::body::{M3, V3};
 use super::Sim;
 
 impl Sim<'_> {
@@ -28,9 +28,10 @@ impl Sim<'_> {
             }
         }
         let c0 = frames[0].expect("the carrier is fixed");
-        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        self.carrier_at_rest =
-            c0.r == identity && c0.x == [0.0; 3] && c0.v == [0.0; 3] && c0.w == [0.0; 3];
+        self.carrier_at_rest = c0.r == M3::identity()
+            && c0.x == V3::zeros()
+            && c0.v == V3::zeros()
+            && c0.w == V3::zeros();
         for i in 1..=self.n {
             let Some(s) = frames[i] else { continue };
             for j in 0..4 {
@@ -43,7 +44,7 @@ impl Sim<'_> {
         }
         for (si, s) in self.m.springs.iter().enumerate() {
             if let Some(low) = frames[self.lower_body(s.interface)] {
-                self.static_spring_low[si] = Some(add(low.x, mul(&low.r, self.spring_low[si])));
+                self.static_spring_low[si] = Some(low.x + low.r * self.spring_low[si]);
             }
         }
         self.static_frames = frames;
