@@ -14,9 +14,6 @@ mod response;
 mod separation;
 
 use crate::Error;
-use crate::fem::FeModel;
-use crate::fem::model::Reduction;
-use crate::modal::ModalSystem;
 use std::path::Path;
 
 /// The benchmarks, by the name `satqual bench` takes.
@@ -32,16 +29,11 @@ pub struct Table {
     pub markdown: String,
 }
 
-/// Writes a modal system's reduced K, M (and K_G, K + K_G) as Matrix Market files, with the
-/// DOF map, into a folder. The modal benchmark hands them to scipy's eigsh; it is given the
-/// command line's exporter so that the peer reads exactly the files a user would export.
-pub type MatrixExport = fn(&Path, &FeModel, &Reduction, &ModalSystem) -> Result<(), Error>;
-
 /// Runs the benchmark `name` and writes its table to `out`.
-pub fn run(name: &str, out: &Path, export: MatrixExport) -> Result<Table, Error> {
+pub fn run(name: &str, out: &Path) -> Result<Table, Error> {
     let (name, (json, markdown)) = match name {
         "fem" => ("fem", fem::run()?),
-        "modal" => ("modal", modal::run(out, export)?),
+        "modal" => ("modal", modal::run(out)?),
         "response" => ("response", response::run()?),
         "psd" => ("psd", psd::run()?),
         "separation" => ("separation", separation::run()?),

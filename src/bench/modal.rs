@@ -96,7 +96,7 @@ struct Report {
 }
 
 /// The table as (JSON, Markdown); the matrices for eigsh go to `out/modal-work`.
-pub fn run(out: &Path, export: super::MatrixExport) -> Result<(String, String), Error> {
+pub fn run(out: &Path) -> Result<(String, String), Error> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let work = out.join("modal-work");
     std::fs::create_dir_all(&work).map_err(|e| Error::io(&work, e))?;
@@ -105,7 +105,7 @@ pub fn run(out: &Path, export: super::MatrixExport) -> Result<(String, String), 
     let (model_note, scenes) = stack_scenes()?;
     let mut stacks = Vec::new();
     for (n, text) in scenes {
-        let mut row = bench_stack(&work, n, &text, python.as_deref(), export)?;
+        let mut row = bench_stack(&work, n, &text, python.as_deref())?;
         // A stack beyond its buckling load with open bores (the 120-satellite one, 66 m of
         // bars) is measured with the bars bearing on the bores, and says so.
         if let Some(err) = row
@@ -114,7 +114,7 @@ pub fn run(out: &Path, export: super::MatrixExport) -> Result<(String, String), 
             .filter(|e| e.starts_with("satqual failed") && e.contains("buckling load"))
         {
             let closed = catalogue::generated::with_closed_bores(&text);
-            row = bench_stack(&work, n, &closed, python.as_deref(), export)?;
+            row = bench_stack(&work, n, &closed, python.as_deref())?;
             let why = err.trim_start_matches("satqual failed: ");
             row.model_note = Some(format!("bar_bore = \"closed\": with open bores {why}"));
         }
@@ -140,7 +140,6 @@ fn bench_stack(
     n: usize,
     text: &str,
     python: Option<&Path>,
-    export: super::MatrixExport,
 ) -> Result<StackRow, Error> {
     let path = work.join(format!("stack-{n}.toml"));
     crate::report::write_atomic(&path, text.as_bytes())?;
@@ -230,7 +229,7 @@ fn bench_stack(
         None => row.eigsh_note = Some("python3 with scipy not found: not run".into()),
         Some(py) => {
             let dir = work.join(format!("stack-{n}-matrices"));
-            export(&dir, &model, &sys.reduction, &sys)?;
+            crate::pipeline::workflows::matrices::export(&dir, &model, &sys)?;
             let kfile = if r.prestress.is_some() {
                 "KKG.mtx"
             } else {

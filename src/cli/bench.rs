@@ -20,7 +20,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
-    let table = satqual::bench::run(&args.what, &args.out, super::modal::export)?;
+    let table = satqual::bench::run(&args.what, &args.out)?;
     let printer = Printer::new(args.json);
     printer.human(&table.markdown);
     printer.human(&format!(

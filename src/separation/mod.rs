@@ -1,6 +1,6 @@
 //! Separation dynamics of the in-orbit release (the paper's §3–§4 carried to 3-D): rigid
 //! satellites with 6 DOF (quaternions), guide bars as flexible cantilevers in modal coordinates
-//! (modes from `fem`), bore-edge contact with Lankarani–Nikravesh normal force and regularised
+//! (modes of an FE beam model, `bar_modes`), bore-edge contact with Lankarani–Nikravesh normal force and regularised
 //! Coulomb friction, four separation springs per interface, the release schedule after the
 //! compression device unlocks, an adaptive Dormand–Prince 5(4) integrator with events, an
 //! energy audit, and a seeded parallel Monte Carlo.

@@ -32,7 +32,7 @@ pub struct SeparationSpec {
     /// Number of bending modes per plane of each guide bar, or `"rigid"`.
     #[serde(default = "defaults::bar_modes")]
     pub bar_modes: BarModesChoice,
-    /// Beam elements of the bar model that gives the modes (fem::cantilever_bar_modes).
+    /// Beam elements of the bar model that gives the modes (separation::bar_modes::cantilever_bar_modes).
     #[serde(default = "defaults::bar_elements")]
     pub bar_elements: usize,
     /// Modal damping ratio of the guide-bar modes.

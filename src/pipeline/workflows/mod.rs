@@ -3,6 +3,7 @@
 //! callers decide what to print or gate.
 
 pub mod frf;
+pub mod matrices;
 pub mod modal;
 pub mod psd;
 pub mod response;
