@@ -183,3 +183,81 @@ fn bad_merges_are_located() {
     .unwrap();
     refused(&parts, &["scene.toml", "changed since the shards ran"]);
 }
+
+/// The Slurm scripts: an array of K tasks reading SLURM_ARRAY_TASK_ID/COUNT, and a merge job
+/// chained with afterok (reference: sbatch(1) for the directives and dependency syntax).
+#[test]
+fn campaign_writes_a_slurm_array_and_a_chained_merge() {
+    let dir = temp_dir("campaign-slurm");
+    let scene = scene(&dir);
+    let camp = dir.join("camp");
+    let (code, out, err) = run_text(
+        &[
+            "campaign",
+            &scene,
+            "--slurm",
+            "--shards",
+            "4",
+            "--monte-carlo",
+            "59",
+            "--seed",
+            "3",
+            "--partition",
+            "debug",
+            "--time",
+            "00:10:00",
+            "--cpus",
+            "2",
+            "--dir",
+            camp.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let shards = std::fs::read_to_string(camp.join("shards.sbatch")).unwrap();
+    for line in [
+        "#SBATCH --array=0-3",
+        "#SBATCH --cpus-per-task=2",
+        "#SBATCH --partition=debug",
+        "#SBATCH --time=00:10:00",
+        "--monte-carlo 59 --seed 3 --shards \"$SLURM_ARRAY_TASK_COUNT\" --shard-env SLURM_ARRAY_TASK_ID",
+        "/part-\"$SLURM_ARRAY_TASK_ID\".json",
+    ] {
+        assert!(shards.contains(line), "`{line}` not in:\n{shards}");
+    }
+    let merge = std::fs::read_to_string(camp.join("merge.sbatch")).unwrap();
+    assert!(
+        merge.contains(" merge ") && merge.contains("result.json"),
+        "{merge}"
+    );
+    assert!(out.contains("sbatch --parsable"), "{out}");
+    assert!(out.contains("sbatch --dependency=afterok:"), "{out}");
+    assert!(camp.join("parts").is_dir() && camp.join("logs").is_dir());
+}
+
+/// A 4-shard campaign on a one-node Slurm cluster on localhost (scripts/slurm-local.sh):
+/// the merged result must equal the single-machine run byte for byte (the script's `cmp`).
+#[test]
+fn slurm_campaign_merges_byte_identical() {
+    let on_path = std::env::var_os("PATH")
+        .is_some_and(|p| std::env::split_paths(&p).any(|d| d.join("sbatch").is_file()));
+    if !on_path {
+        println!("skipped: sbatch is not on PATH (scripts/slurm-local.sh installs Slurm)");
+        return;
+    }
+    let dir = temp_dir("campaign-slurm-local");
+    let scene = scene(&dir);
+    let o = std::process::Command::new(crate::common::repo_path("scripts/slurm-local.sh"))
+        .args([scene.as_str(), RUNS, SEED])
+        .env("SATQUAL", env!("CARGO_BIN_EXE_satqual"))
+        .env("SHARD_COUNTS", "4")
+        .env("SLURM_LOCAL_DIR", dir.join("slurm"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && text.contains("K = 4: merged result byte-identical"),
+        "{text}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
