@@ -92,8 +92,9 @@ for k in $counts; do
         --dir "$dir" >/dev/null
     start=$(date +%s.%N)
     array=$(sbatch --parsable "$dir/shards.sbatch")
-    # --wait: return when the merge job ended, with its exit code.
-    sbatch --wait --dependency=afterok:"${array%%;*}" "$dir/merge.sbatch" >/dev/null || true
+    merge=$(sbatch --parsable --dependency=afterok:"${array%%;*}" "$dir/merge.sbatch")
+    # Poll finely: sbatch --wait polls at growing intervals and would round the wall time up.
+    while [ -n "$(squeue -h -j "${array%%;*},${merge%%;*}" 2>/dev/null)" ]; do sleep 0.2; done
     wall=$(echo "$(date +%s.%N) - $start" | bc)
     if cmp -s "$dir/result.json" "$out/single.json"; then
         echo "K = $k: merged result byte-identical, wall $wall s"
