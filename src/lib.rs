@@ -24,6 +24,7 @@
 //! work-precision tables of `satqual bench`) imports everything and nothing imports it.
 
 pub mod bench;
+pub mod campaign;
 pub mod catalogue;
 pub mod error;
 pub mod fem;

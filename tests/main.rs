@@ -34,6 +34,9 @@ mod separation_contact;
 mod separation_input;
 mod separation_montecarlo;
 
+// Sharded Monte Carlo, merge, Slurm scripts.
+mod campaign;
+
 // Test-log signal processing.
 mod signal_bands;
 mod signal_frf;

@@ -7,8 +7,10 @@ use satqual::Error;
 use std::io::Write;
 
 mod bench;
+mod campaign;
 mod expand;
 mod frf;
+mod merge;
 mod modal;
 mod psd;
 mod qualify;
@@ -38,6 +40,10 @@ pub enum Command {
     Expand(expand::Args),
     /// In-orbit release: separation dynamics of the stack, optionally a Monte Carlo.
     Separate(separate::Args),
+    /// Write the Slurm array script of a sharded Monte Carlo and its merge job.
+    Campaign(campaign::Args),
+    /// Join the part files of a sharded `separate --monte-carlo` into one result.
+    Merge(merge::Args),
     /// Run every analysis the scene asks for, gate the results, write the report.
     Qualify(qualify::Args),
     /// Sine-sweep base-excitation response, joint loads and lock-integrity margins.
@@ -70,6 +76,8 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Modal(a) => modal::run(a),
         Command::Expand(a) => expand::run(a),
         Command::Separate(a) => separate::run(a),
+        Command::Campaign(a) => campaign::run(a),
+        Command::Merge(a) => merge::run(a),
         Command::Qualify(a) => qualify::run(a),
         Command::Sine(a) => sine::run(a),
         Command::Random(a) => random::run(a),

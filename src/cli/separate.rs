@@ -1,13 +1,19 @@
 //! `satqual separate SCENE [--monte-carlo N --seed S] [--out DIR] [--json]`: the in-orbit
 //! release of a `[stack]` + `[separation]` scene, and optionally a seeded Monte Carlo.
+//! With `--shard I/K` (or `--shards K` and an array-job index in the environment) it computes
+//! only shard I's realizations and writes them to the part file `--out`; `satqual merge`
+//! joins the parts.
 
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::Silent;
+use satqual::pipeline::fnv1a;
 use satqual::pipeline::plan::MonteCarloPlan;
 use satqual::pipeline::workflows::{self, separate::SeparateRequest, separate::SeparateRun};
 use satqual::report::write_atomic;
-use satqual::separation::{self, SeparationResult};
+use satqual::separation::shard::{self, Campaign, Part, Shard};
+use satqual::separation::{self, Model, SeparationResult};
+use satqual::spec::Scene;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,26 +28,45 @@ pub struct Args {
     /// Seed of the Monte Carlo streams.
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Write CSV histories of the nominal run to this folder.
+    /// Write CSV histories of the nominal run to this folder; with a shard, the part file.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Compute only shard I of K (0-based) of the Monte Carlo and write it to `--out`.
+    #[arg(long, value_name = "I/K", requires_all = ["monte_carlo", "out"])]
+    pub shard: Option<String>,
+    /// Shard count K when the index comes from the environment (SATQUAL_SHARD_INDEX,
+    /// SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX or JOB_COMPLETION_INDEX, the first set).
+    #[arg(long, value_name = "K", conflicts_with = "shard", requires_all = ["monte_carlo", "out"])]
+    pub shards: Option<usize>,
+    /// Read the shard index from this environment variable instead.
+    #[arg(long, value_name = "VAR", requires = "shards")]
+    pub shard_env: Option<String>,
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
 }
 
 #[derive(Serialize)]
-struct Output<'a> {
-    scene: String,
+pub(super) struct Output<'a> {
+    pub(super) scene: String,
     #[serde(flatten)]
-    result: &'a SeparationResult,
+    pub(super) result: &'a SeparationResult,
     #[serde(skip_serializing_if = "Option::is_none")]
-    monte_carlo: Option<separation::MonteCarloResult>,
+    pub(super) monte_carlo: Option<&'a separation::MonteCarloResult>,
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
     let scene = satqual::spec::Scene::load(&args.scene)?;
+    let shard = shard::resolve(
+        args.shard.as_deref(),
+        args.shards,
+        args.shard_env.as_deref(),
+        |n| std::env::var(n).ok(),
+    )?;
+    if let (Some(shard), Some(runs), Some(out)) = (shard, args.monte_carlo, &args.out) {
+        return run_shard(&p, &scene, shard, runs, args.seed.unwrap_or(0), out);
+    }
     let req = SeparateRequest {
         record_history: args.out.is_some(),
         monte_carlo: args.monte_carlo.map(|runs| MonteCarloPlan {
@@ -57,6 +82,54 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     if let (Some(dir), Some(h)) = (&args.out, &result.history) {
         write_histories(dir, h)?;
     }
+    print(&p, &scene, &result, mc.as_ref())?;
+    Ok(Outcome::Pass)
+}
+
+/// Shard `shard` of an `runs`-run Monte Carlo: its realizations, written as a part file.
+fn run_shard(
+    p: &Printer,
+    scene: &Scene,
+    shard: Shard,
+    runs: usize,
+    seed: u64,
+    out: &Path,
+) -> Result<Outcome, Error> {
+    let model = Model::from_scene(scene)?;
+    let range = shard.range(runs);
+    let results = separation::montecarlo::realizations(&model, seed, range.clone())?;
+    let campaign = Campaign {
+        scene: scene.path.display().to_string(),
+        scene_hash: fnv1a(&scene.text),
+        seed,
+        runs,
+        shards: shard.count,
+        satellites: model.n_satellites(),
+    };
+    let part = Part::new(campaign, shard, &results);
+    let text = serde_json::to_string(&part).map_err(|e| Error::Other(e.to_string()))?;
+    write_atomic(out, format!("{text}\n").as_bytes())?;
+    p.human(&format!(
+        "shard {}/{} of {}: runs {}..{} (seed {seed}) written to {}",
+        shard.index,
+        shard.count,
+        scene.name(),
+        range.start,
+        range.end,
+        out.display()
+    ));
+    p.json(&part)?;
+    Ok(Outcome::Pass)
+}
+
+/// The human summary and the JSON of a separation run; `merge` prints through it too, so a
+/// merged campaign's output is the single-machine output byte for byte.
+pub(super) fn print(
+    p: &Printer,
+    scene: &Scene,
+    result: &SeparationResult,
+    mc: Option<&separation::MonteCarloResult>,
+) -> Result<(), Error> {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -95,7 +168,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     if let Some(c) = result.min_clearance_m {
         let _ = writeln!(s, "  minimum inter-satellite clearance {c:.4} m");
     }
-    if let Some(mc) = &mc {
+    if let Some(mc) = mc {
         let _ = writeln!(
             s,
             "  Monte Carlo {} runs (seed {}): final speed P1 {:.4} P50 {:.4} P99 {:.4} P99.73 {:.4} m/s; tip-off rate P99.73 {:.3} deg/s; min clearance P0.27 {:.4} m",
@@ -112,10 +185,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     p.human(s.trim_end());
     p.json(&Output {
         scene: scene.path.display().to_string(),
-        result: &result,
+        result,
         monte_carlo: mc,
-    })?;
-    Ok(Outcome::Pass)
+    })
 }
 
 fn write_histories(dir: &Path, h: &separation::History) -> Result<(), Error> {

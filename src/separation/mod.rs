@@ -11,7 +11,8 @@
 //!
 //! Files: `params` (the model), `body` (quaternion kinematics), `bar` (modal bars),
 //! `contact` (LN, friction, contact states), `integrator` (DOPRI5), `sim` (one run),
-//! `montecarlo` (dispersed runs and percentiles).
+//! `montecarlo` (dispersed runs and percentiles), `shard` (part files of a sharded Monte Carlo
+//! and their merge).
 
 pub mod bar;
 pub mod bar_modes;
@@ -20,11 +21,12 @@ pub mod contact;
 pub mod integrator;
 pub mod montecarlo;
 pub mod params;
+pub mod shard;
 pub mod sim;
 
 pub use contact::{ContactParams, ContactState, Transitions};
 pub use integrator::Stats;
-pub use montecarlo::{MonteCarloResult, Percentiles, monte_carlo};
+pub use montecarlo::{MonteCarloResult, Percentiles, Realization, monte_carlo};
 pub use params::{Model, SatelliteParams, SpringParams};
 pub use sim::{
     EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult, run,

@@ -131,39 +131,68 @@ pub fn dispersed(model: &Model, seed: u64, i: u64) -> Model {
     m
 }
 
+/// What one dispersed run contributes to the Monte Carlo: per-satellite exit speed and tip-off
+/// rate, the run's minimum clearance and its step count. Shards exchange these, so a merge
+/// rebuilds exactly the sample a single machine would have.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Realization {
+    pub index: u64,
+    pub final_speed_m_s: Vec<f64>,
+    pub tip_off_rate_deg_s: Vec<f64>,
+    pub min_clearance_m: Option<f64>,
+    pub steps: usize,
+}
+
+/// Run `i` of the Monte Carlo: its random stream depends only on (`seed`, `i`), so any machine
+/// computes the same realization.
+pub fn realize(model: &Model, seed: u64, i: u64) -> Result<Realization, SeparationError> {
+    let r = run(&dispersed(model, seed, i), &RunOptions::default()).map_err(|e| match e {
+        SeparationError::NonFinite { time_s, body } => SeparationError::NonFinite {
+            time_s,
+            body: format!("{body} (Monte Carlo run {i}, seed {seed})"),
+        },
+        other => SeparationError::Invalid(format!("Monte Carlo run {i} (seed {seed}): {other}")),
+    })?;
+    Ok(Realization {
+        index: i,
+        final_speed_m_s: r.satellites.iter().map(|s| s.final_speed_m_s).collect(),
+        tip_off_rate_deg_s: r.satellites.iter().map(|s| s.final_rate_deg_s).collect(),
+        min_clearance_m: r.min_clearance_m,
+        steps: r.stats.steps,
+    })
+}
+
+/// The realizations with indices in `range`, in parallel (rayon's current pool), in index order.
+pub fn realizations(
+    model: &Model,
+    seed: u64,
+    range: std::ops::Range<u64>,
+) -> Result<Vec<Realization>, SeparationError> {
+    range
+        .into_par_iter()
+        .map(|i| realize(model, seed, i))
+        .collect()
+}
+
 /// Runs `runs` dispersed releases in parallel (rayon's current pool).
 pub fn monte_carlo(
     model: &Model,
     runs: usize,
     seed: u64,
 ) -> Result<MonteCarloResult, SeparationError> {
-    let results = (0..runs as u64)
-        .into_par_iter()
-        .map(|i| {
-            run(&dispersed(model, seed, i), &RunOptions::default()).map_err(|e| match e {
-                SeparationError::NonFinite { time_s, body } => SeparationError::NonFinite {
-                    time_s,
-                    body: format!("{body} (Monte Carlo run {i}, seed {seed})"),
-                },
-                other => {
-                    SeparationError::Invalid(format!("Monte Carlo run {i} (seed {seed}): {other}"))
-                }
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let n = model.n_satellites();
+    let results = realizations(model, seed, 0..runs as u64)?;
+    Ok(aggregate(seed, model.n_satellites(), &results))
+}
+
+/// Percentiles and samples of realizations `0..results.len()` given in index order. The sums and
+/// sorted order statistics depend only on the values, never on where they were computed.
+pub fn aggregate(seed: u64, n_satellites: usize, results: &[Realization]) -> MonteCarloResult {
     let mut all_speed = Vec::new();
     let mut all_rate = Vec::new();
-    let satellites = (0..n)
+    let satellites = (0..n_satellites)
         .map(|i| {
-            let sp: Vec<f64> = results
-                .iter()
-                .map(|r| r.satellites[i].final_speed_m_s)
-                .collect();
-            let rt: Vec<f64> = results
-                .iter()
-                .map(|r| r.satellites[i].final_rate_deg_s)
-                .collect();
+            let sp: Vec<f64> = results.iter().map(|r| r.final_speed_m_s[i]).collect();
+            let rt: Vec<f64> = results.iter().map(|r| r.tip_off_rate_deg_s[i]).collect();
             all_speed.extend_from_slice(&sp);
             all_rate.extend_from_slice(&rt);
             SatelliteSpread {
@@ -174,18 +203,18 @@ pub fn monte_carlo(
         })
         .collect();
     let clear: Vec<f64> = results.iter().filter_map(|r| r.min_clearance_m).collect();
-    Ok(MonteCarloResult {
-        runs,
+    MonteCarloResult {
+        runs: results.len(),
         seed,
         satellites,
         final_speed_m_s: Percentiles::of(&all_speed),
         tip_off_rate_deg_s: Percentiles::of(&all_rate),
         min_clearance_m: Percentiles::of(&clear),
-        steps: results.iter().map(|r| r.stats.steps).sum(),
+        steps: results.iter().map(|r| r.steps).sum(),
         samples_final_speed_m_s: all_speed,
         samples_tip_off_rate_deg_s: all_rate,
         samples_min_clearance_m: clear,
-    })
+    }
 }
 
 #[cfg(test)]
