@@ -144,7 +144,7 @@ fn a_pinned_root_is_a_mechanism_with_three_zero_modes() {
 /// The cantilever as a column under a tip load P along −x: the model's own buckling load P_cr
 /// (from P = 1000 N and its buckling factor) is within the mesh error (1e-4) of Euler's
 /// π²EI/(4L²); at 0.99 P_cr the modes come out with buckling factor 1/0.99, at 1.01 P_cr the
-/// modal analysis refuses with the [[static_load]] located.
+/// modal analysis and `qualify` refuse with the [[static_load]] located.
 #[test]
 fn a_preload_beyond_buckling_is_a_located_error_and_below_it_a_result() {
     let loaded = |p: f64| {
@@ -173,6 +173,12 @@ fn a_preload_beyond_buckling_is_a_located_error_and_below_it_a_result() {
     let err = run(1.01 * p_cr)
         .expect_err("beyond buckling must be refused")
         .to_string();
+    // `qualify` takes the same modal path and refuses the same way, never a verdict.
+    let q = satqual::pipeline::qualify(&parse(&loaded(1.01 * p_cr)), &satqual::pipeline::Silent);
+    let Err(qerr) = q else {
+        panic!("qualify beyond buckling must be refused")
+    };
+    assert!(qerr.to_string().contains("static_load[0]"), "{qerr}");
     assert!(
         err.contains("static_load[0]") && err.contains("buckling"),
         "{err}"
