@@ -92,6 +92,25 @@ fn a_stiff_tie_at_mid_span_keeps_the_continuous_beam_and_is_flagged() {
     }
     let dense = res.dense.as_ref().unwrap();
     assert!(dense.max_ratio > 1e7, "{dense:?}");
+    // The same tie at r = 1e15 (8.4e22 N/m, 2.8e18 N·m/rad) is beyond double precision: the
+    // modes it gives are not the beam's, and that must not pass silently.
+    let beyond = modes_of(
+        &text.replacen(
+            "[1e12, 1e12, 1e12, 1e12, 1e12, 1e12]",
+            "[8.4e22, 8.4e22, 8.4e22, 2.8e18, 2.8e18, 2.8e18]",
+            1,
+        ),
+        10,
+    );
+    let exact = rel(
+        beyond.modes[0].frequency_hz,
+        reference.modes[0].frequency_hz,
+    ) < 1e-6;
+    assert!(
+        exact || beyond.warnings.iter().any(|w| w.contains("tie")),
+        "{:?}",
+        beyond.warnings
+    );
     assert!(
         res.warnings
             .iter()

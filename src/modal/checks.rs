@@ -12,6 +12,10 @@ pub const MAX_BACKWARD_ERROR: f64 = 1e-8;
 /// MAXRATIO above which the stiffness is poorly conditioned: Nastran's default threshold
 /// (parameter MAXRATIO = 1e7, MSC Nastran Quick Reference Guide).
 pub const MAX_PIVOT_RATIO: f64 = 1e7;
+/// A pivot ratio beyond which fewer digits are left than the zero-eigenvalue test needs
+/// (1/(1000·ε) ≈ 4.5e12): the zero test can then no longer tell a flexible mode from a
+/// rigid-body one.
+pub const LOST_PIVOT_RATIO: f64 = 1.0 / (ZERO_EIGENVALUE_ULPS * f64::EPSILON);
 /// A λ within this many round-off units ε·|φ|ᵀ|K||φ| of zero is a zero eigenvalue: the
 /// factorization of K − σM perturbs K by about ε·|K|, so a rigid-body mode's λ comes out at
 /// that size with either sign.

@@ -438,6 +438,15 @@ fn dense_modes(
         let w = checks::conditioning_warning(model, red, max_ratio, at);
         result.warnings.push(w);
     }
+    // A pivot that kept fewer digits than the zero test allows means the "rigid-body" modes
+    // may be flexible modes drowned by a stiffness beyond double precision: say so.
+    let (raw_ratio, raw_at) = checks::max_ratio(&g.pivot_ratio, 0);
+    if rigid > 0 && raw_ratio > checks::LOST_PIVOT_RATIO {
+        let w = checks::conditioning_warning(model, red, raw_ratio, raw_at);
+        result.warnings.push(format!(
+            "the {rigid} zero-frequency modes may be an artefact: {w}"
+        ));
+    }
     if max_backward_error > checks::MAX_BACKWARD_ERROR {
         result.warnings.push(format!(
             "modes not solved to working precision: backward error up to {max_backward_error:.2e} (> {:.0e}), worst at mode {} ({:.6e} Hz)",
