@@ -16,6 +16,7 @@ mod golden;
 mod cli_modal;
 mod fem_verification;
 mod modal_sparse;
+mod modal_stability;
 mod scene_errors;
 mod stack;
 

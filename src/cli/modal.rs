@@ -63,6 +63,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     )?;
     let p = Printer::new(args.json);
     let r = &sys.result;
+    for w in &r.warnings {
+        eprintln!("warning: {}: {w}", args.scene.display());
+    }
     let mut t = String::new();
     let _ = writeln!(
         t,

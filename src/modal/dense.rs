@@ -1,5 +1,5 @@
 //! Dense symmetric-definite eigen-solves with faer, for models up to a few thousand DOFs:
-//! K·φ = λ·M·φ by Cholesky reduction (M = L·Lᵀ, A = L⁻¹·K·L⁻ᵀ) and the self-adjoint
+//! K·φ = λ·M·φ by shift-invert (K − σM = L·Lᵀ, C = L⁻¹·M·L⁻ᵀ) and the self-adjoint
 //! eigen-solver, and the buckling problem (K + λ·K_G)·φ = 0 by the same reduction on K.
 //!
 //! Everything runs with `Par::Seq`: the dense solves are small, and sequential floating-point
@@ -88,15 +88,89 @@ fn congruence(l: &Mat<f64>, a: &Mat<f64>) -> Mat<f64> {
     y
 }
 
-/// All eigenpairs of K·φ = λ·M·φ, λ ascending, φ mass-normalised (φᵀMφ = 1).
-/// Returns the eigenvalues and the shapes as columns.
-pub fn generalized(k: &Mat<f64>, m: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>), DenseError> {
+/// Every eigenpair of K·φ = λ·M·φ by reduction with the Cholesky factor of M (M = L·Lᵀ,
+/// A = L⁻¹·K·L⁻ᵀ), for the direct frequency response, which needs the top of the spectrum as
+/// accurately as the bottom: this reduction resolves every λ to round-off of the largest one,
+/// shift-invert resolves the lowest ones to their own precision and loses the top. The modal
+/// analysis uses [`generalized`].
+pub fn generalized_whole_spectrum(
+    k: &Mat<f64>,
+    m: &Mat<f64>,
+) -> Result<(Vec<f64>, Mat<f64>), DenseError> {
     let l = cholesky(m)?;
     let a = congruence(&l, k);
     let (lambda, u) = sym_eigen(&a, true)?;
     let mut phi = u.ok_or(DenseError::NoConvergence)?;
     solve_upper_triangular_in_place(l.transpose(), phi.as_mut(), Par::Seq);
     Ok((lambda, phi))
+}
+
+/// The shift of the dense shift-invert solve, −(2π · 1 Hz)²: below every eigenvalue of a
+/// stable model, so K − σM is positive definite even with rigid-body modes, and small against
+/// the flexible modes of anything from a launcher stack to a bracket, so λ = σ + 1/θ loses no
+/// digits to cancellation. Raised a hundredfold at a time when round-off in a stiff model's
+/// null space makes the first factorization fail.
+const FIRST_SHIFT: f64 = -39.478_417_604_357_43;
+const SHIFT_TRIES: usize = 8;
+
+/// All eigenpairs of K·φ = λ·M·φ by shift-invert, and the factorization's conditioning.
+pub struct Generalized {
+    /// Ascending.
+    pub lambda: Vec<f64>,
+    /// Mass-normalised shapes (φᵀMφ = 1), as columns.
+    pub phi: Mat<f64>,
+    /// The shift σ that was factored.
+    pub shift: f64,
+    /// B_ii / D_ii of every pivot of B = K − σM = L·D·Lᵀ (D_ii = L_ii² of the Cholesky
+    /// factor), the figure Nastran calls MAXRATIO at its largest.
+    pub pivot_ratio: Vec<f64>,
+}
+
+/// All eigenpairs of K·φ = λ·M·φ, λ ascending, φ mass-normalised (φᵀMφ = 1).
+///
+/// B = K − σM = L·Lᵀ with σ < 0, then the eigenpairs (θ, u) of C = L⁻¹·M·L⁻ᵀ: θ = 1/(λ − σ)
+/// and φ = L⁻ᵀ·u. K enters only through its factor, never through a product with a shape: a
+/// 1e20 N/m spring would add a 1e20 term to a 1e4 eigenvalue in a Rayleigh quotient and
+/// take all its digits (as reducing by the Cholesky factor of M did). The largest θ are the
+/// lowest modes, resolved to the working precision of C.
+pub fn generalized(k: &Mat<f64>, m: &Mat<f64>) -> Result<Generalized, DenseError> {
+    let (shift, l) = factor_shifted(k, m)?;
+    let n = k.nrows();
+    let pivot_ratio = (0..n)
+        .map(|i| (k[(i, i)] - shift * m[(i, i)]) / (l[(i, i)] * l[(i, i)]))
+        .collect();
+    let c = congruence(&l, m);
+    let (theta, u) = sym_eigen(&c, true)?;
+    let mut u = u.ok_or(DenseError::NoConvergence)?;
+    solve_upper_triangular_in_place(l.transpose(), u.as_mut(), Par::Seq);
+    // θ ascending is λ descending: take the columns in reverse.
+    let lambda = theta.iter().rev().map(|&t| shift + 1.0 / t).collect();
+    let phi = Mat::<f64>::from_fn(n, n, |r, c| {
+        let j = n - 1 - c;
+        u[(r, j)] / theta[j].abs().sqrt()
+    });
+    Ok(Generalized {
+        lambda,
+        phi,
+        shift,
+        pivot_ratio,
+    })
+}
+
+/// The Cholesky factor of K − σM for the first σ of the sequence that makes it positive
+/// definite; the last failure when none does.
+fn factor_shifted(k: &Mat<f64>, m: &Mat<f64>) -> Result<(f64, Mat<f64>), DenseError> {
+    let mut shift = FIRST_SHIFT;
+    let mut last = DenseError::NoConvergence;
+    for _ in 0..SHIFT_TRIES {
+        let b = k - m * faer::Scale(shift);
+        match cholesky(&b) {
+            Ok(l) => return Ok((shift, l)),
+            Err(e) => last = e,
+        }
+        shift *= 100.0;
+    }
+    Err(last)
 }
 
 /// Smallest positive λ of (K + λ·K_G)·φ = 0, with K positive definite: the eigenvalues μ of

@@ -6,6 +6,7 @@
 //! sparse ones (`sparse`: LDLᵀ, shift-invert block Lanczos with a Sturm-count proof); see
 //! [`AUTO_SPARSE_DOFS`] for where `SolverChoice::Auto` switches.
 
+pub mod checks;
 pub mod dense;
 pub mod sparse;
 
@@ -76,6 +77,9 @@ pub struct Mode {
     pub effective_mass: Dir6,
     /// Γ² over the total mass (translations) or total inertia about the CM (rotations).
     pub effective_mass_fraction: Dir6,
+    /// A rigid-body (or mechanism) mode: λ zero to round-off, reported at 0 Hz.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub rigid_body: bool,
     /// Mass-normalised shape over the reduced DOFs; the largest component is positive.
     #[serde(skip)]
     pub shape: Vec<f64>,
@@ -125,8 +129,22 @@ pub struct ModalResult {
     pub dofs: usize,
     pub solver: String,
     pub modes: Vec<Mode>,
+    /// How many of the modes are rigid-body modes (0 Hz): an unsupported or partly supported
+    /// model, or a mechanism.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub rigid_body_modes: usize,
+    /// The direction (x, y, z, rx, ry, rz) each rigid-body mode moves in most, by effective
+    /// mass; `none` for a mechanism that moves no mass along any of them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub rigid_body_directions: Vec<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub prestress: Option<PrestressSummary>,
+    /// What the dense solver did (shift, MAXRATIO, backward error); absent for the sparse one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dense: Option<checks::DenseStats>,
+    /// Numerical warnings (poor conditioning, modes not solved to working precision).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// What the sparse solver did (Sturm count and its shift, factorizations, backward
     /// error); absent for the dense solver.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -379,7 +397,8 @@ fn sparse_modes(
     Ok(result)
 }
 
-/// Every mode by the dense solver, then the ones asked for (`modes`, `fmax_hz`) kept.
+/// Every mode by the dense solver, then the ones asked for (`modes`, `fmax_hz`) kept, each
+/// checked against its residual; rigid-body modes set to 0 Hz and counted.
 fn dense_modes(
     model: &FeModel,
     red: &Reduction,
@@ -390,29 +409,165 @@ fn dense_modes(
 ) -> Result<ModalResult, crate::Error> {
     let kd = to_dense(red.n_red, k);
     let md = to_dense(red.n_red, m);
-    let (lambda, phi) = dense::generalized(&kd, &md)
-        .map_err(|e| dense_err(model, red, e, true, "dense eigen-solve"))?;
-    let two_pi = 2.0 * std::f64::consts::PI;
-    let mut keep = lambda.len();
-    if let Some(n) = opts.modes {
-        keep = keep.min(n);
-    }
-    if let Some(fmax) = opts.fmax_hz {
-        let lmax = (two_pi * fmax).powi(2);
-        keep = keep.min(lambda.iter().take_while(|&&l| l <= lmax).count());
-    }
-    let shapes: Vec<(f64, Vec<f64>)> = (0..keep)
-        .map(|c| (lambda[c], (0..red.n_red).map(|r| phi[(r, c)]).collect()))
+    let g = dense::generalized(&kd, &md)
+        .map_err(|e| dense_err(model, red, e, false, "dense eigen-solve"))?;
+    let keep = dense_kept(&g.lambda, opts);
+    let mut shapes: Vec<(f64, Vec<f64>)> = (0..keep)
+        .map(|c| (g.lambda[c], (0..red.n_red).map(|r| g.phi[(r, c)]).collect()))
         .collect();
-    Ok(modal_result(
+    m_orthonormalize(m, &mut shapes);
+    // Past buckling (a caller that opted out of stopping) the negative modes are the result.
+    let unstable = prestress
+        .as_ref()
+        .and_then(|p| p.buckling_factor)
+        .is_some_and(|f| f < 1.0);
+    let (rigid, worst) = check_dense_pairs(model, (k, m), &mut shapes, unstable)?;
+    let max_backward_error = worst.0;
+    let mut result = modal_result(
         model,
         red,
         m_full,
         m,
         shapes,
-        "dense (faer self-adjoint eigen)",
+        "dense (faer self-adjoint eigen, shift-invert)",
         prestress,
-    ))
+    );
+    mark_rigid_body(&mut result, rigid);
+    let (max_ratio, at) = checks::max_ratio(&g.pivot_ratio, rigid);
+    if max_ratio > checks::MAX_PIVOT_RATIO {
+        let w = checks::conditioning_warning(model, red, max_ratio, at);
+        result.warnings.push(w);
+    }
+    // A pivot that kept fewer digits than the zero test allows means the "rigid-body" modes
+    // may be flexible modes drowned by a stiffness beyond double precision: say so.
+    let (raw_ratio, raw_at) = checks::max_ratio(&g.pivot_ratio, 0);
+    if rigid > 0 && raw_ratio > checks::LOST_PIVOT_RATIO {
+        let w = checks::conditioning_warning(model, red, raw_ratio, raw_at);
+        result.warnings.push(format!(
+            "the {rigid} zero-frequency modes may be an artefact: {w}"
+        ));
+    }
+    if max_backward_error > checks::MAX_BACKWARD_ERROR {
+        result.warnings.push(format!(
+            "modes not solved to working precision: backward error up to {max_backward_error:.2e} (> {:.0e}), worst at mode {} ({:.6e} Hz)",
+            checks::MAX_BACKWARD_ERROR,
+            worst.1 + 1,
+            result.modes[worst.1].frequency_hz
+        ));
+    }
+    result.dense = Some(checks::DenseStats {
+        shift: g.shift,
+        max_ratio,
+        max_ratio_at: checks::dof_name(model, red, at),
+        max_backward_error,
+    });
+    Ok(result)
+}
+
+/// How many of the ascending eigenvalues the options keep.
+fn dense_kept(lambda: &[f64], opts: &ModalOptions) -> usize {
+    let mut keep = lambda.len();
+    if let Some(n) = opts.modes {
+        keep = keep.min(n);
+    }
+    if let Some(fmax) = opts.fmax_hz {
+        let lmax = (2.0 * std::f64::consts::PI * fmax).powi(2);
+        keep = keep.min(lambda.iter().take_while(|&&l| l <= lmax).count());
+    }
+    keep
+}
+
+/// Checks every kept pair: a round-off zero becomes exactly 0 (so the rigid-body modes form
+/// one cluster and get aligned with the axes), a negative λ beyond round-off is an error.
+/// Returns the number of zeros and the largest backward error with its mode index.
+fn check_dense_pairs(
+    model: &FeModel,
+    (k, m): (&Triplets, &Triplets),
+    shapes: &mut [(f64, Vec<f64>)],
+    unstable: bool,
+) -> Result<(usize, (f64, usize)), crate::Error> {
+    let mut rigid = 0;
+    let mut worst = (0.0f64, 0);
+    for (i, (lambda, phi)) in shapes.iter_mut().enumerate() {
+        let c = checks::check_pair(k, m, *lambda, phi);
+        if c.backward_error > worst.0 {
+            worst = (c.backward_error, i);
+        }
+        if c.zero {
+            *lambda = 0.0;
+            rigid += 1;
+        } else if *lambda < 0.0 && !unstable {
+            let f = (-*lambda).sqrt() / (2.0 * std::f64::consts::PI);
+            return Err(ModalError::Invalid(format!(
+                "mode {} has a negative eigenvalue ({:.6e} rad²/s², an imaginary frequency of {f:.4} Hz) beyond round-off: the stiffness of {} is not positive semi-definite",
+                i + 1,
+                *lambda,
+                model_name(model)
+            ))
+            .into());
+        }
+    }
+    Ok((rigid, worst))
+}
+
+/// Modified Gram–Schmidt (twice) of the kept shapes in the M inner product, lowest first: the
+/// shift-invert shapes are M-orthonormal only to ε·cond(K − σM) (3.8e-10 on NAFEMS FV4's
+/// rigid arm), the modal superposition downstream assumes ΦᵀMΦ = I to round-off. Within one
+/// eigenvalue this is a rotation of the eigenspace; across eigenvalues it moves each shape by
+/// that loss of orthogonality.
+fn m_orthonormalize(m: &Triplets, shapes: &mut [(f64, Vec<f64>)]) {
+    let n = shapes.first().map_or(0, |s| s.1.len());
+    let mul = |v: &[f64]| {
+        let mut y = vec![0.0; n];
+        for &(i, j, a) in m {
+            y[i] += a * v[j];
+        }
+        y
+    };
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mut mphi: Vec<Vec<f64>> = Vec::with_capacity(shapes.len());
+    for j in 0..shapes.len() {
+        let mut v = std::mem::take(&mut shapes[j].1);
+        for _ in 0..2 {
+            for (i, w) in mphi.iter().enumerate() {
+                let c = dot(w, &v);
+                v.iter_mut()
+                    .zip(&shapes[i].1)
+                    .for_each(|(x, p)| *x -= c * p);
+            }
+        }
+        let mut w = mul(&v);
+        // A shape projected to nothing would be a repeated vector; left as it is rather than
+        // divided by zero.
+        let norm = dot(&v, &w).sqrt();
+        let norm = if norm > 0.0 { norm } else { 1.0 };
+        v.iter_mut().for_each(|x| *x /= norm);
+        w.iter_mut().for_each(|x| *x /= norm);
+        shapes[j].1 = v;
+        mphi.push(w);
+    }
+}
+
+fn model_name(model: &FeModel) -> String {
+    format!("the model ({} nodes)", model.nodes.len())
+}
+
+/// Flags the first `rigid` modes (λ = 0 sorts first) and names their directions.
+fn mark_rigid_body(result: &mut ModalResult, rigid: usize) {
+    const NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+    result.rigid_body_modes = rigid;
+    for mode in result.modes.iter_mut().take(rigid) {
+        mode.rigid_body = true;
+        mode.frequency_hz = 0.0;
+        let frac = mode.effective_mass_fraction.to_array();
+        let best = (0..6).fold(0, |b, a| if frac[a] > frac[b] { a } else { b });
+        let name = if frac[best] > 0.0 {
+            NAMES[best]
+        } else {
+            "none"
+        };
+        result.rigid_body_directions.push(name.to_string());
+    }
 }
 
 /// Axial force of every beam element from a full displacement vector (tension positive).
@@ -460,9 +615,17 @@ pub fn modal_result(
         dofs: red.n_red,
         solver: solver.to_string(),
         modes,
+        rigid_body_modes: 0,
+        rigid_body_directions: Vec::new(),
         prestress,
+        dense: None,
+        warnings: Vec::new(),
         sparse: None,
     }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// M·D over the reduced DOFs (D: the rigid-body vectors about the centre of mass), and the
@@ -536,6 +699,7 @@ fn mode(
         participation: Dir6::from_array(gamma),
         effective_mass: Dir6::from_array(eff),
         effective_mass_fraction: Dir6::from_array(frac),
+        rigid_body: false,
         shape,
         eigenvalue: lambda,
     }

@@ -113,8 +113,8 @@ impl Plan {
 
 /// The modal options of a scene: `[modal]` (or its defaults: no frequency cap, no mode count,
 /// automatic solver) unless overridden. A frequency cap or a mode count given on the command
-/// line replaces both of the scene's. A stack stops at the buckling solve when its preload
-/// exceeds the buckling load, before extracting modes of an unstable structure.
+/// line replaces both of the scene's. Every scene stops at the buckling solve when its static
+/// loads exceed the buckling load: the modes of an unstable structure are not a result.
 pub fn modal_options(scene: &Scene, overrides: &ModalOverrides) -> ModalOptions {
     let spec = scene.file.modal.clone().unwrap_or_default();
     let (fmax_hz, modes) = match (overrides.fmax_hz, overrides.modes) {
@@ -125,7 +125,7 @@ pub fn modal_options(scene: &Scene, overrides: &ModalOverrides) -> ModalOptions 
         fmax_hz,
         modes,
         solver: overrides.solver.unwrap_or(spec.solver),
-        stop_beyond_buckling: scene.file.stack.is_some(),
+        stop_beyond_buckling: true,
     }
 }
 
@@ -374,11 +374,12 @@ acceleration_g = 0.3
     fn a_scene_without_modal_gets_the_documented_modal_defaults() {
         let s = scene(&format!("{BEAM}{SINE}"));
         let plan = Plan::resolve(&s).unwrap();
-        // [modal] absent: no frequency cap, no mode count, automatic solver; not a stack.
+        // [modal] absent: no frequency cap, no mode count, automatic solver; beyond buckling
+        // refused as in every scene.
         let m = plan.modal.expect("a response needs the modes");
         assert_eq!((m.fmax_hz, m.modes), (None, None));
         assert_eq!(m.solver, SolverChoice::Auto);
-        assert!(!m.stop_beyond_buckling);
+        assert!(m.stop_beyond_buckling);
     }
 
     #[test]

@@ -30,6 +30,9 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
         None => None,
     };
     let test_data = test_data(scene, &plan, progress, &mut found)?;
+    if found.gates.is_empty() {
+        found.gates.push(gates::frequency::nothing_evaluated());
+    }
     let provenance = Provenance {
         scene_file: scene.path.display().to_string(),
         scene_hash: provenance::fnv1a(&scene.text),
@@ -85,9 +88,11 @@ fn modal_and_response(
     }
     let r = sys.result;
     let first = [0, 1, 2].map(|dir| gates::frequency::first_mode(&r, dir));
-    found
-        .gates
-        .extend(gates::frequency::first_frequencies(first, &plan.limits));
+    found.gates.extend(gates::frequency::first_frequencies(
+        first,
+        gates::frequency::Band::of(&r),
+        &plan.limits,
+    ));
     let buckling = r.prestress.as_ref().and_then(|p| p.buckling_factor);
     found
         .gates

@@ -137,9 +137,10 @@ impl DirectFrf {
         let n = sys.reduction.n_red;
         let k = dense(n, &sys.k);
         let m = dense(n, &sys.m);
-        let (lambda, phi) = crate::modal::dense::generalized(&k, &m).map_err(|_| {
-            ResponseError::Invalid("direct response: the full eigen-solve failed".into())
-        })?;
+        let (lambda, phi) =
+            crate::modal::dense::generalized_whole_spectrum(&k, &m).map_err(|_| {
+                ResponseError::Invalid("direct response: the full eigen-solve failed".into())
+            })?;
         // C = (MΦ)·diag(2ζω)·(MΦ)ᵀ.
         let mphi = &m * &phi;
         let mut scaled = mphi.clone();

@@ -57,6 +57,14 @@ fn locate_modal_error(scene: &Scene, e: Error) -> Error {
             );
             scene.locator().err("stack.preload_total_n", msg).into()
         }
+        (Error::Modal(ModalError::BeyondBuckling { factor }), None)
+            if !scene.file.static_load.is_empty() =>
+        {
+            let msg = format!(
+                "the static loads are above the model's buckling load (buckling factor {factor:.3}: buckling at {factor:.3} × the [[static_load]] entries): the structure has no stable modes; reduce the loads or stiffen the model"
+            );
+            scene.locator().err("static_load[0].node", msg).into()
+        }
         (other, _) => other,
     }
 }

@@ -1,0 +1,255 @@
+//! Numerical stability of the modal solve: stiff springs against the clamped beam they
+//! emulate, a free-free beam and a mechanism (rigid-body modes at 0 Hz), the conditioning
+//! warning, a preload just below and just above buckling, and a qualification that has nothing
+//! to stand on. Every model is the 1 m, 20 × 20 mm steel beam of
+//! `test-specs/verification/cantilever.toml` (20 Euler-Bernoulli elements): EI = 2800 N·m²,
+//! ρA = 3.14 kg/m, EA/L = 8.4e7 N/m.
+
+use crate::common::{load, parse, rel};
+use satqual::modal::ModalResult;
+use std::f64::consts::PI;
+
+const CANTILEVER: &str = "test-specs/verification/cantilever.toml";
+const EI: f64 = 210e9 * 0.02 * 0.02 * 0.02 * 0.02 / 12.0;
+const RHO_A: f64 = 7850.0 * 0.02 * 0.02;
+const EA_OVER_L: f64 = 210e9 * 0.02 * 0.02;
+
+/// Euler-Bernoulli beam frequency for the root βL of its boundary conditions (L = 1 m):
+/// f = (βL)² / (2π) · √(EI / ρA).
+fn beam_hz(beta_l: f64) -> f64 {
+    beta_l * beta_l / (2.0 * PI) * (EI / RHO_A).sqrt()
+}
+
+fn scene_text() -> String {
+    std::fs::read_to_string(crate::common::repo_path(CANTILEVER)).unwrap()
+}
+
+fn modes_of(text: &str, modes: usize) -> ModalResult {
+    let scene = parse(text);
+    satqual::pipeline::modal(&scene, None, Some(modes))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .1
+        .result
+}
+
+fn clamped() -> ModalResult {
+    let scene = load(&crate::common::repo_path(CANTILEVER).display().to_string());
+    satqual::pipeline::modal(&scene, None, Some(10))
+        .unwrap()
+        .1
+        .result
+}
+
+/// The cantilever with its clamp replaced by a spring to a supported node 9.
+fn root_spring(k: [f64; 6]) -> String {
+    let spring = format!(
+        "[[node]]\nid = 9\nposition_m = [0.0, 0.0, 0.0]\n\n[[spring]]\nname = \"root\"\nnodes = [9, 1]\nstiffness = {k:?}\n\n[[support]]\nnode = 9"
+    );
+    scene_text().replacen("[[support]]\nnode = 1", &spring, 1)
+}
+
+/// Reference: the clamped scene's own modes (so the mesh error cancels), to 1e-6 relative; the
+/// springs k = r·(EA/L, EI/L) emulate the clamp to 1/r, far below that for r ≥ 1e8. Before the
+/// shift-invert solve, r = 1e12 gave −2.6% / +8.4% and r = 1e15 negative eigenvalues.
+#[test]
+fn stiff_root_springs_give_the_clamped_frequencies() {
+    let reference = clamped();
+    for r in [1e8, 1e10, 1e12, 1e15] {
+        let (t, b) = (r * EA_OVER_L, r * EI);
+        let res = modes_of(&root_spring([t, t, t, b, b, b]), 10);
+        for i in 0..8 {
+            let (f, f0) = (res.modes[i].frequency_hz, reference.modes[i].frequency_hz);
+            assert!(rel(f, f0) < 1e-6, "r = {r:e}, mode {}: {f} vs {f0}", i + 1);
+        }
+        assert_eq!(res.rigid_body_modes, 0);
+        let dense = res.dense.as_ref().expect("dense solver");
+        assert!(dense.max_backward_error < 1e-8, "r = {r:e}: {dense:?}");
+    }
+    // The clamped model itself against βL = 1.875104 (clamped-free), within the 20-element
+    // mesh error of a cubic beam (1e-4).
+    let f1 = beam_hz(1.875_104_07);
+    assert!(rel(reference.modes[0].frequency_hz, f1) < 1e-4);
+    assert!(rel(reference.modes[1].frequency_hz, f1) < 1e-4);
+}
+
+/// The beam cut at mid-span into two 10-element halves whose coincident end nodes are tied by
+/// k = 1e12 in all six DOFs: the same modes as the continuous beam (the clamped scene, 1e-6
+/// relative). Before, +53% dense, −8% sparse. The tie is 1.8e7 times the rotational stiffness
+/// of an element (4EI/Le = 2.2e5 N·m): MAXRATIO above 1e7, so a warning names it.
+#[test]
+fn a_stiff_tie_at_mid_span_keeps_the_continuous_beam_and_is_flagged() {
+    let tie = "[[node]]\nid = 3\nposition_m = [0.5, 0.0, 0.0]\n\n[[node]]\nid = 4\nposition_m = [0.5, 0.0, 0.0]\n\n[[spring]]\nname = \"tie\"\nnodes = [3, 4]\nstiffness = [1e12, 1e12, 1e12, 1e12, 1e12, 1e12]\n\n[[beam]]\nnodes = [1, 3]";
+    let second = "theory = \"euler-bernoulli\"\n\n[[beam]]\nnodes = [4, 2]\nsection = \"bar\"\nmaterial = \"steel\"\nelements = 10\norientation = [0.0, 0.0, 1.0]\ntheory = \"euler-bernoulli\"\n";
+    let text = scene_text()
+        .replacen("[[beam]]\nnodes = [1, 2]", tie, 1)
+        .replacen("elements = 20", "elements = 10", 1)
+        .replacen("theory = \"euler-bernoulli\"\n", second, 1);
+    let res = modes_of(&text, 10);
+    let reference = clamped();
+    for i in 0..8 {
+        let (f, f0) = (res.modes[i].frequency_hz, reference.modes[i].frequency_hz);
+        assert!(rel(f, f0) < 1e-6, "mode {}: {f} vs {f0}", i + 1);
+    }
+    let dense = res.dense.as_ref().unwrap();
+    assert!(dense.max_ratio > 1e7, "{dense:?}");
+    // The same tie at r = 1e15 (8.4e22 N/m, 2.8e18 N·m/rad) is beyond double precision: the
+    // modes it gives are not the beam's, and that must not pass silently.
+    let beyond = modes_of(
+        &text.replacen(
+            "[1e12, 1e12, 1e12, 1e12, 1e12, 1e12]",
+            "[8.4e22, 8.4e22, 8.4e22, 2.8e18, 2.8e18, 2.8e18]",
+            1,
+        ),
+        10,
+    );
+    let exact = rel(
+        beyond.modes[0].frequency_hz,
+        reference.modes[0].frequency_hz,
+    ) < 1e-6;
+    assert!(
+        exact || beyond.warnings.iter().any(|w| w.contains("tie")),
+        "{:?}",
+        beyond.warnings
+    );
+    assert!(
+        res.warnings
+            .iter()
+            .any(|w| w.contains("MAXRATIO") && w.contains("tie") && w.contains("[[rigid]]")),
+        "{:?}",
+        res.warnings
+    );
+}
+
+fn free_free() -> String {
+    scene_text().replacen("[[support]]\nnode = 1\ndofs = \"123456\"\n", "", 1)
+}
+
+/// No support: six rigid-body modes at exactly 0 Hz along x, y, z, rx, ry, rz, then the
+/// free-free bending pair at βL = 4.730041 (within the 20-element mesh error, 1e-4).
+#[test]
+fn a_free_free_beam_has_six_rigid_body_modes_at_zero() {
+    let res = modes_of(&free_free(), 8);
+    assert_eq!(res.rigid_body_modes, 6);
+    assert_eq!(res.rigid_body_directions, ["x", "y", "z", "rx", "ry", "rz"]);
+    for m in &res.modes[..6] {
+        assert!(m.rigid_body && m.frequency_hz == 0.0, "{m:?}");
+    }
+    let f1 = beam_hz(4.730_040_7);
+    assert!(
+        rel(res.modes[6].frequency_hz, f1) < 1e-4,
+        "{}",
+        res.modes[6].frequency_hz
+    );
+    assert!(rel(res.modes[7].frequency_hz, f1) < 1e-4);
+}
+
+/// A mechanism: the root held in translation only (a pin; rotational stiffness 0) leaves three
+/// rigid-body rotations about it, then the pinned-free bending pair at βL = 3.926602 (the
+/// pinned-free beam's flexible roots equal the clamped-pinned ones), mesh error 1e-4.
+#[test]
+fn a_pinned_root_is_a_mechanism_with_three_zero_modes() {
+    let t = 1e8 * EA_OVER_L;
+    let res = modes_of(&root_spring([t, t, t, 0.0, 0.0, 0.0]), 5);
+    assert_eq!(res.rigid_body_modes, 3);
+    let f1 = beam_hz(3.926_602_3);
+    assert!(
+        rel(res.modes[3].frequency_hz, f1) < 1e-4,
+        "{}",
+        res.modes[3].frequency_hz
+    );
+    assert!(rel(res.modes[4].frequency_hz, f1) < 1e-4);
+}
+
+/// The cantilever as a column under a tip load P along −x: the model's own buckling load P_cr
+/// (from P = 1000 N and its buckling factor) is within the mesh error (1e-4) of Euler's
+/// π²EI/(4L²); at 0.99 P_cr the modes come out with buckling factor 1/0.99, at 1.01 P_cr the
+/// modal analysis and `qualify` refuse with the [[static_load]] located.
+#[test]
+fn a_preload_beyond_buckling_is_a_located_error_and_below_it_a_result() {
+    let loaded = |p: f64| {
+        format!(
+            "{}\n[[static_load]]\nnode = 2\nforce_n = [{:?}, 0.0, 0.0]\n",
+            scene_text(),
+            -p
+        )
+    };
+    let run = |p: f64| satqual::pipeline::modal(&parse(&loaded(p)), None, Some(4));
+    let factor = |p: f64| {
+        run(p)
+            .unwrap()
+            .1
+            .result
+            .prestress
+            .unwrap()
+            .buckling_factor
+            .unwrap()
+    };
+    let p_cr = 1000.0 * factor(1000.0);
+    assert!(rel(p_cr, PI * PI * EI / 4.0) < 1e-4, "{p_cr}");
+    assert!(rel(factor(0.99 * p_cr), 1.0 / 0.99) < 1e-6);
+    let below = run(0.99 * p_cr).unwrap().1.result;
+    assert!(below.modes.iter().all(|m| m.frequency_hz > 0.0));
+    let err = run(1.01 * p_cr)
+        .expect_err("beyond buckling must be refused")
+        .to_string();
+    // `qualify` takes the same modal path and refuses the same way, never a verdict.
+    let q = satqual::pipeline::qualify(&parse(&loaded(1.01 * p_cr)), &satqual::pipeline::Silent);
+    let Err(qerr) = q else {
+        panic!("qualify beyond buckling must be refused")
+    };
+    assert!(qerr.to_string().contains("static_load[0]"), "{qerr}");
+    assert!(
+        err.contains("static_load[0]") && err.contains("buckling"),
+        "{err}"
+    );
+}
+
+/// An unsupported model does not qualify: its rigid-body modes are 0 Hz first frequencies,
+/// which fail every frequency minimum; nothing is silently dropped.
+#[test]
+fn an_unsupported_model_does_not_pass_qualify() {
+    let q = satqual::pipeline::qualify(&parse(&free_free()), &satqual::pipeline::Silent).unwrap();
+    assert!(!q.pass);
+    let freq: Vec<_> = q
+        .gates
+        .iter()
+        .filter(|g| g.name.contains("frequency"))
+        .collect();
+    assert_eq!(freq.len(), 3, "{:?}", q.gates);
+    assert!(
+        freq.iter()
+            .all(|g| !g.pass && g.value == 0.0 && g.name.contains("rigid-body"))
+    );
+}
+
+/// A near-massless body (1e-6 kg, 1e-12 kg·m²) hung on the tip by a 1e4 N/m spring: its own
+/// modes go to the top of the spectrum (√(k/m)/2π ≈ 16 kHz, and 15.9 MHz in rotation) with
+/// every frequency finite and positive, and the beam's modes stay the clamped scene's to 1e-6
+/// (the mass lowers f₁ by about ½·m·φ_tip² = ½·1e-6·4/(ρAL) = 6.4e-7 relative). The 15.9 MHz
+/// modes sit 1e12 above the first in λ, where shift-invert resolves them only to a backward
+/// error of ~1e-6: that is reported as a warning naming the mode, not passed over.
+#[test]
+fn a_near_massless_body_does_not_disturb_the_structure() {
+    let body = "[[node]]\nid = 5\nposition_m = [1.0, 0.0, 0.0]\n\n[[mass]]\nnode = 5\nmass_kg = 1e-6\ninertia_kg_m2 = [1e-12, 1e-12, 1e-12]\n\n[[spring]]\nname = \"hanger\"\nnodes = [2, 5]\nstiffness = [1e4, 1e4, 1e4, 1e4, 1e4, 1e4]\n\n[[support]]";
+    let text = scene_text().replacen("[[support]]", body, 1);
+    let res = modes_of(&text, 1000);
+    assert_eq!(res.modes.len(), res.dofs);
+    assert!(
+        res.modes
+            .iter()
+            .all(|m| m.frequency_hz.is_finite() && m.frequency_hz > 0.0)
+    );
+    let dense = res.dense.as_ref().unwrap();
+    if dense.max_backward_error > 1e-8 {
+        assert!(
+            res.warnings.iter().any(|w| w.contains("backward error")),
+            "{:?}",
+            res.warnings
+        );
+    }
+    let reference = clamped();
+    for i in 0..8 {
+        let (f, f0) = (res.modes[i].frequency_hz, reference.modes[i].frequency_hz);
+        assert!(rel(f, f0) < 1e-6, "mode {}: {f} vs {f0}", i + 1);
+    }
+}
