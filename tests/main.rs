@@ -36,6 +36,7 @@ mod separation_montecarlo;
 
 // Test-log signal processing.
 mod signal_bands;
+mod signal_dialects;
 mod signal_frf;
 mod signal_ingest;
 mod signal_proptest;
