@@ -218,3 +218,56 @@ fn psd_json_carries_the_ingest_record_and_stderr_the_decisions() {
     assert_eq!(v["ingest"]["decimal"], ",");
     assert_eq!(err.matches("decimal comma").count(), 1, "{err}");
 }
+
+/// A UFF58 time history (function type 1, real single, 1 ms step) whose record 9 holds the
+/// axis label `axis` and the units label `unit`.
+fn uff58(axis: &str, unit: &str, scale: f64) -> String {
+    let mut s = String::from("    -1\n    58\nsine\nNONE\nNONE\nAcc 1\nNONE\n");
+    s.push_str(
+        "    1         0    0         0 sine               1   3 NONE               0   0\n",
+    );
+    s.push_str(&format!(
+        "         2{N:10}         1 0.00000E+00 1.00000E-03 0.00000E+00\n"
+    ));
+    s.push_str("        17    0    0    0 Time                 s                   \n");
+    s.push_str(&format!(
+        "         0    0    0    0 {axis:<20} {unit:<20}\n"
+    ));
+    s.push_str("         0    0    0    0 NONE                 NONE                \n");
+    s.push_str("         0    0    0    0 NONE                 NONE                \n");
+    for chunk in (0..N).collect::<Vec<_>>().chunks(6) {
+        for &i in chunk {
+            s.push_str(&format!("{:13.5E}", sample(i) * scale));
+        }
+        s.push('\n');
+    }
+    s.push_str("    -1\n");
+    s
+}
+
+#[test]
+fn uff58_unit_comes_from_the_units_field_not_the_axis_label() {
+    // 2 g amplitude written in m/s2 (9.80665 m/s2 per g, ISO 80000-3): reported RMS 2/√2 g to
+    // the 6 significant digits of the E13.5 values (1e-5 relative).
+    let p = write("acc.uff", &uff58("Acceleration", "m/s2", 9.80665));
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let ch = &v["channels"][0];
+    assert_eq!(ch["unit"], "g");
+    let want = 2.0 / 2f64.sqrt();
+    let rms = ch["rms"].as_f64().unwrap();
+    assert!((rms - want).abs() < want * 1e-5, "{rms}");
+    // A pressure channel labelled `General` is not in g.
+    let p = write("pa.uff", &uff58("General", "Pa", 1.0));
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["channels"][0]["unit"], "as-is");
+}

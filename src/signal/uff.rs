@@ -178,8 +178,14 @@ fn parse_record(
     let spacing: i64 = field(file, r7_line, &r7, 2, "abscissa spacing")?;
     let x0: f64 = field(file, r7_line, &r7, 3, "abscissa minimum")?;
     let dx: f64 = field(file, r7_line, &r7, 4, "abscissa increment")?;
-    // Record 9: four integers, then the axis label and the units label.
-    let ordinate_label = get(8)?.split_whitespace().nth(4).unwrap_or("").to_string();
+    // Record 9: four integers, then the axis label and the units label. The unit is the last
+    // field: the axis label ("Acceleration", "General") says what, not in which unit.
+    let ordinate_label = get(8)?
+        .split_whitespace()
+        .skip(4)
+        .last()
+        .unwrap_or("")
+        .to_string();
     let complex = match ord_type {
         2 | 4 => false,
         5 | 6 => true,
