@@ -271,3 +271,16 @@ fn uff58_unit_comes_from_the_units_field_not_the_axis_label() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["channels"][0]["unit"], "as-is");
 }
+
+#[test]
+fn uff58_with_id_line_4_none_is_named_by_its_response_entity() {
+    let text = uff58("Acceleration", "g", 1.0).replace("\nAcc 1\n", "\nNONE\n");
+    let p = write("none.uff", &text);
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["channels"][0]["name"], "sine");
+}
