@@ -284,3 +284,23 @@ fn uff58_with_id_line_4_none_is_named_by_its_response_entity() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["channels"][0]["name"], "sine");
 }
+
+#[test]
+fn a_bad_first_row_is_reported_not_taken_for_a_header_or_units_row() {
+    let p = write(
+        "bad-row.csv",
+        &format!("time,acc_g\n0,x\n{}", rows(",", 1.0, 0.001, false)),
+    );
+    let err = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("line 2") && err.contains("`x`"), "{err}");
+    let p = write(
+        "nan-row.csv",
+        &format!("time,acc_g\nNaN,x\n{}", rows(",", 1.0, 0.001, false)),
+    );
+    let err = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("line 2"), "{err}");
+}

@@ -210,7 +210,7 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
     })?;
     let data_idx = content[first];
     let above: Vec<usize> = content[..first].to_vec();
-    let (header, header_idx, units) = header_above(&lines, &above, delimiter, dec, width);
+    let (header, header_idx, units) = header_above(&lines, &above, delimiter, dec, width)?;
     // Comments and preamble lines count; blank lines do not.
     let nonblank = lines[..data_idx]
         .iter()
@@ -239,7 +239,7 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
     })
 }
 
-type HeaderFound = (Option<Vec<String>>, Option<usize>, Option<Vec<String>>);
+type HeaderFound = Option<(Option<Vec<String>>, Option<usize>, Option<Vec<String>>)>;
 
 /// The header is the nearest non-numeric line above the data with as many fields (a trailing
 /// delimiter may add one empty name); a second such line right under it is a units row.
@@ -258,13 +258,20 @@ fn header_above(
         while f.len() < width && d != Delimiter::Whitespace && f.len() + 1 == width {
             f.push(String::new());
         }
-        (f.len() == width && !numeric_row(&f, dec)).then_some(f)
+        // A name is never a number: a line holding one is a bad data row, not a header.
+        let any_number = f.iter().any(|c| !c.is_empty() && c.parse::<f64>().is_ok())
+            || f.iter().any(|c| number(c, dec).is_some());
+        (f.len() == width && !any_number).then_some(f)
     };
     let Some(&last) = above.last() else {
-        return (None, None, None);
+        return Some((None, None, None));
     };
     let Some(lower) = fits(last) else {
-        return (None, None, None);
+        // As wide as the data but not a header: a broken row, which the plain reader reports.
+        if count_fields(lines[last].1, d) == width {
+            return None;
+        }
+        return Some((None, None, None));
     };
     if above.len() >= 2 {
         let prev = above[above.len() - 2];
@@ -272,17 +279,17 @@ fn header_above(
             && let Some(upper) = fits(prev)
             && looks_like_units(&lower)
         {
-            return (Some(upper), Some(prev), Some(lower));
+            return Some((Some(upper), Some(prev), Some(lower)));
         }
     }
-    (Some(lower), Some(last), None)
+    Some((Some(lower), Some(last), None))
 }
 
 /// Units rows hold short unit words: `s`, `g`, `m/s^2`, `[V]`, `(N)`.
 fn looks_like_units(fields: &[String]) -> bool {
     fields.iter().all(|f| {
         let t = f.trim_matches(|c| matches!(c, '[' | ']' | '(' | ')'));
-        t.len() <= 8 && !t.contains(' ')
+        t.len() <= 8 && !t.contains(' ') && t.parse::<f64>().is_err()
     })
 }
 
