@@ -40,6 +40,7 @@ mod campaign;
 
 // Test-log signal processing.
 mod signal_bands;
+mod signal_dialects;
 mod signal_frf;
 mod signal_ingest;
 mod signal_proptest;

@@ -2,7 +2,7 @@
 //! of every log given (e.g. one file per hammer hit), resonances with half-power Q; `--out DIR`
 //! writes frf.csv and an SVG of |H1| and coherence.
 
-use super::psd::{parse_units, welch_options};
+use super::psd::{DialectArgs, parse_units, welch_options};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{self, frf::FrfRequest};
@@ -51,6 +51,8 @@ pub struct Args {
     pub fmax: Option<f64>,
     #[arg(long)]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub dialect: DialectArgs,
     #[arg(long)]
     pub json: bool,
 }
@@ -75,6 +77,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ..Default::default()
     };
     parse_units(args.units.as_deref(), &mut ingest)?;
+    args.dialect.apply(&mut ingest)?;
     let run = workflows::frf::run(&FrfRequest {
         logs: &args.logs,
         input: &args.input,

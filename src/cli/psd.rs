@@ -10,7 +10,7 @@ use satqual::pipeline::workflows::{
 };
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
-use satqual::signal::ingest::{IngestOptions, Unit};
+use satqual::signal::ingest::{IngestOptions, LogInfo, TimeUnit, Unit};
 use satqual::signal::{
     Detrend, PsdSource, ToleranceSpec, WelchOptions, Window, octave_bands, read_profile,
 };
@@ -45,6 +45,8 @@ pub struct Args {
     /// Interpolate a non-uniform time column onto a uniform grid (reported) instead of failing.
     #[arg(long)]
     pub resample: bool,
+    #[command(flatten)]
+    pub dialect: DialectArgs,
     /// Reference profile (TOML `profile_g2_hz = [[f, g2], ...]` or CSV f_hz,g2_hz): tolerance bands.
     #[arg(long)]
     pub profile: Option<PathBuf>,
@@ -66,6 +68,36 @@ pub struct Args {
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+/// How to read a log whose dialect the reader cannot decide alone.
+#[derive(clap::Args, Debug, Clone)]
+pub struct DialectArgs {
+    /// Column names of a headerless log, comma-separated.
+    #[arg(long, value_delimiter = ',')]
+    pub columns: Option<Vec<String>>,
+    /// Unit of the time column when its name states none: s, ms, us or ns.
+    #[arg(long)]
+    pub time_unit: Option<String>,
+    /// Use --fs even when the time column disagrees with it (the time column is ignored).
+    #[arg(long)]
+    pub fs_override: bool,
+}
+
+impl DialectArgs {
+    pub fn apply(&self, opts: &mut IngestOptions) -> Result<(), Error> {
+        opts.columns = self.columns.clone();
+        opts.time_unit = self.time_unit.as_deref().map(TimeUnit::parse).transpose()?;
+        opts.fs_override = self.fs_override;
+        Ok(())
+    }
+}
+
+/// Prints the reader's dialect decisions once, on stderr (stdout may hold the JSON).
+pub fn print_ingest_notes(info: Option<&LogInfo>) {
+    for n in info.map(|i| i.ingest.notes.as_slice()).unwrap_or_default() {
+        eprintln!("note: {n}");
+    }
 }
 
 /// Parses `--units`: one unit for all, or `name=unit` pairs.
@@ -114,6 +146,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ..Default::default()
     };
     parse_units(args.units.as_deref(), &mut ingest)?;
+    args.dialect.apply(&mut ingest)?;
     let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
     let tolerance = match &args.profile {
         Some(path) => Some(ToleranceCheck {
@@ -134,6 +167,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         peaks: Some(args.peaks),
         tolerance,
     })?;
+    print_ingest_notes(run.psd.info.as_ref());
     let mut human = summary(&args, &run, &wopts);
     let pass = run.tolerance.as_ref().is_none_or(|(_, t)| t.pass);
     if let Some(dir) = &args.out {
@@ -240,6 +274,7 @@ fn document(args: &Args, run: &PsdRun, wopts: &WelchOptions, pass: bool) -> serd
         "segments": first.psd.segments,
         "time_column": info.and_then(|i| i.time_column.clone()),
         "resampled": info.and_then(|i| i.resampled.clone()),
+        "ingest": info.map(|i| &i.ingest),
         "channels": channels,
         "tolerance": run.tolerance.as_ref().map(|(n, t)| json!({"channel": n, "report": t})),
         "pass": pass,

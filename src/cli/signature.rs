@@ -2,7 +2,7 @@
 //! signature, matched mode by mode; fails (exit 1) when a mode shifts more than
 //! `--max-shift-pct` or changes amplitude more than `--max-amp-change-pct`, naming the mode.
 
-use super::psd::{parse_units, welch_options};
+use super::psd::{DialectArgs, parse_units, welch_options};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{self, signature::SignatureRequest};
@@ -49,6 +49,8 @@ pub struct Args {
     pub fmin: Option<f64>,
     #[arg(long)]
     pub fmax: Option<f64>,
+    #[command(flatten)]
+    pub dialect: DialectArgs,
     #[arg(long)]
     pub json: bool,
 }
@@ -68,6 +70,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ..Default::default()
     };
     parse_units(args.units.as_deref(), &mut ingest)?;
+    args.dialect.apply(&mut ingest)?;
     let run = workflows::signature::run(&SignatureRequest {
         before: &args.before,
         after: &args.after,

@@ -2,7 +2,7 @@
 //! phase per unit control, against the instantaneous drive frequency, and its dominant
 //! resonance (fn, half-power Q). `--out DIR` writes sweep.csv and a log-log plot of |H|.
 
-use super::psd::parse_units;
+use super::psd::{DialectArgs, parse_units};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{
@@ -40,6 +40,8 @@ pub struct Args {
     pub resample: bool,
     #[arg(long)]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub dialect: DialectArgs,
     #[arg(long)]
     pub json: bool,
 }
@@ -52,6 +54,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ..Default::default()
     };
     parse_units(args.units.as_deref(), &mut ingest)?;
+    args.dialect.apply(&mut ingest)?;
     let run = workflows::sweep::run(&SweepRequest {
         log: &args.log,
         control: &args.control,

@@ -171,6 +171,17 @@ fn parse_record(
     let function_type: i64 = field(file, r6_line, &r6, 0, "function type")?;
     let r6_raw = get(5)?;
     let response_entity = r6_raw.get(30..40).unwrap_or("").trim().to_string();
+    // Many exporters leave ID line 4 as `NONE`; the response entity of record 6 then names
+    // the channel.
+    let id4 = if id4.is_empty() || id4.eq_ignore_ascii_case("none") {
+        if response_entity.eq_ignore_ascii_case("none") {
+            String::new()
+        } else {
+            response_entity.clone()
+        }
+    } else {
+        id4
+    };
     let r7_line = (start + 7) as u64;
     let r7: Vec<&str> = get(6)?.split_whitespace().collect();
     let ord_type: i64 = field(file, r7_line, &r7, 0, "ordinate data type")?;
@@ -178,8 +189,14 @@ fn parse_record(
     let spacing: i64 = field(file, r7_line, &r7, 2, "abscissa spacing")?;
     let x0: f64 = field(file, r7_line, &r7, 3, "abscissa minimum")?;
     let dx: f64 = field(file, r7_line, &r7, 4, "abscissa increment")?;
-    // Record 9: four integers, then the axis label and the units label.
-    let ordinate_label = get(8)?.split_whitespace().nth(4).unwrap_or("").to_string();
+    // Record 9: four integers, then the axis label and the units label. The unit is the last
+    // field: the axis label ("Acceleration", "General") says what, not in which unit.
+    let ordinate_label = get(8)?
+        .split_whitespace()
+        .skip(4)
+        .last()
+        .unwrap_or("")
+        .to_string();
     let complex = match ord_type {
         2 | 4 => false,
         5 | 6 => true,

@@ -14,9 +14,14 @@
 //! a block holding a quote goes through the `csv` crate. A quoted field with an embedded
 //! newline is not supported (numeric logs have none). Numbers are parsed by `fast-float2`.
 
+pub mod sniff;
+mod time_unit;
+
 use crate::error::SignalError;
+use sniff::{Delimiter, Dialect};
 use std::io::Read;
 use std::path::{Path, PathBuf};
+pub use time_unit::{TimeUnit, time_column_unit};
 
 /// Physical unit of a channel, as found in its name or given by the caller.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -102,6 +107,12 @@ pub struct IngestOptions {
     pub resample: bool,
     /// Allowed departure of one time step from the sampling interval, as a fraction of it.
     pub jitter_tolerance: f64,
+    /// Column names for a headerless file (or replacing the header's).
+    pub columns: Option<Vec<String>>,
+    /// Unit of the time column when its name does not state one.
+    pub time_unit: Option<TimeUnit>,
+    /// `fs` wins over a time column that disagrees with it (the time column is then ignored).
+    pub fs_override: bool,
 }
 
 impl Default for IngestOptions {
@@ -113,6 +124,9 @@ impl Default for IngestOptions {
             channel_units: Vec::new(),
             resample: false,
             jitter_tolerance: 0.01,
+            columns: None,
+            time_unit: None,
+            fs_override: false,
         }
     }
 }
@@ -150,6 +164,25 @@ pub struct LogInfo {
     pub fs_hz: f64,
     pub samples: u64,
     pub resampled: Option<ResampleReport>,
+    pub ingest: IngestRecord,
+}
+
+/// The decisions the reader made about the file's dialect.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct IngestRecord {
+    pub delimiter: &'static str,
+    pub decimal: &'static str,
+    /// Lines before the data that are neither the header, the units row nor blank.
+    pub skipped_lines: u64,
+    pub time_column: Option<String>,
+    pub time_unit: Option<TimeUnit>,
+    /// Columns not read: empty throughout, or metadata filled only at the top.
+    pub ignored_columns: Vec<String>,
+    /// Metadata columns holding one value, e.g. a sample rate.
+    pub metadata: Vec<(String, f64)>,
+    /// One line per decision that departs from a plain comma CSV, for stderr.
+    #[serde(skip)]
+    pub notes: Vec<String>,
 }
 
 /// A log held in memory: `data[c]` is channel `c`, already converted to its reported unit.
@@ -182,12 +215,7 @@ impl Log {
 
 /// Whether a header names a time column.
 pub fn is_time_column(name: &str) -> bool {
-    let n = name.trim().to_ascii_lowercase();
-    let base = n.split(['[', '(', ' ']).next().unwrap_or("");
-    matches!(
-        base,
-        "t" | "t_s" | "time" | "time_s" | "times" | "timestamp" | "x_value" | "seconds" | "sec"
-    )
+    time_column_unit(name).is_some()
 }
 
 /// Reads the first bytes to refuse binary files before the CSV parser sees them.
@@ -239,9 +267,17 @@ fn io_error(path: &Path, e: std::io::Error) -> SignalError {
     }
 }
 
-fn parse_cell(bytes: &[u8]) -> Option<f64> {
+fn parse_cell(bytes: &[u8], decimal_comma: bool) -> Option<f64> {
     let t = bytes.trim_ascii();
-    let v: f64 = fast_float2::parse(t).ok()?;
+    let v: f64 = if decimal_comma && t.contains(&b',') {
+        let fixed: Vec<u8> = t
+            .iter()
+            .map(|&b| if b == b',' { b'.' } else { b })
+            .collect();
+        fast_float2::parse(&fixed).ok()?
+    } else {
+        fast_float2::parse(t).ok()?
+    };
     v.is_finite().then_some(v)
 }
 
@@ -274,156 +310,26 @@ pub fn stream_csv(
     mut sink: impl FnMut(&[f64]),
 ) -> Result<LogInfo, SignalError> {
     sniff(path)?;
-    let file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
-    let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
     let fpath = path.to_path_buf();
-    // The header line goes through the csv crate (quoted names); rows go through `Rows`.
-    let mut header_line = Vec::new();
-    std::io::BufRead::read_until(&mut reader, b'\n', &mut header_line)
-        .map_err(|e| io_error(path, e))?;
-    let mut record = csv::ByteRecord::new();
-    let mut hr = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .from_reader(&header_line[..]);
-    if !hr
-        .read_byte_record(&mut record)
-        .map_err(|e| SignalError::BadHeader {
-            file: fpath.clone(),
-            message: e.to_string(),
-        })?
-    {
-        return Err(SignalError::EmptyFile {
-            file: fpath.clone(),
-        });
-    }
-    let header: Vec<String> = record
-        .iter()
-        .enumerate()
-        .map(|(i, b)| {
-            let s = String::from_utf8_lossy(b).trim().to_string();
-            if i == 0 {
-                s.trim_start_matches('\u{feff}').to_string()
-            } else {
-                s
-            }
-        })
-        .collect();
-    for (i, h) in header.iter().enumerate() {
-        if h.is_empty() {
-            return Err(SignalError::BadHeader {
-                file: fpath.clone(),
-                message: format!("column {} has no channel name", i + 1),
-            });
-        }
-        if header[..i].contains(h) {
-            return Err(SignalError::BadHeader {
-                file: fpath.clone(),
-                message: format!("channel name `{h}` appears twice"),
-            });
-        }
-    }
-    let time_col = header.iter().position(|h| is_time_column(h));
-    let available: Vec<&String> = header
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| Some(*i) != time_col)
-        .map(|(_, h)| h)
-        .collect();
-    let selected: Vec<usize> = match &opts.channels {
-        Some(list) => {
-            let mut v = Vec::new();
-            for name in list {
-                let i = header
-                    .iter()
-                    .position(|h| h == name)
-                    .filter(|i| Some(*i) != time_col)
-                    .ok_or_else(|| SignalError::NoSuchChannel {
-                        file: fpath.clone(),
-                        name: name.clone(),
-                        available: available
-                            .iter()
-                            .map(|s| s.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                    })?;
-                v.push(i);
-            }
-            v
-        }
-        None => (0..header.len()).filter(|i| Some(*i) != time_col).collect(),
-    };
-    if selected.is_empty() {
-        return Err(SignalError::BadHeader {
-            file: fpath.clone(),
-            message: format!(
-                "no data channel: the only column{} `{}` {}",
-                if header.len() > 1 { "s" } else { "" },
-                header.join(","),
-                if time_col.is_some() {
-                    "is a time column"
-                } else {
-                    "holds no channel"
-                }
-            ),
-        });
-    }
-    if time_col.is_none() && opts.fs.is_none() {
-        return Err(SignalError::NoSamplingRate {
-            file: fpath.clone(),
-        });
-    }
-    if let Some(fs) = opts.fs
-        && !(fs.is_finite() && fs > 0.0)
-    {
-        return Err(SignalError::BadParameter {
-            name: "fs",
-            value: fs.to_string(),
-            reason: "must be positive".into(),
-        });
-    }
-    for (name, _) in &opts.channel_units {
-        if !header.contains(name) {
-            return Err(SignalError::NoSuchChannel {
-                file: fpath.clone(),
-                name: name.clone(),
-                available: available
-                    .iter()
-                    .map(|s| s.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            });
-        }
-    }
-    let channels: Vec<ChannelInfo> = selected
-        .iter()
-        .map(|&i| {
-            let name = header[i].clone();
-            let (unit, unit_source) =
-                if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
-                    (*u, UnitSource::Option)
-                } else if let Some(u) = Unit::from_name(&name) {
-                    (u, UnitSource::Name)
-                } else if let Some(u) = opts.default_unit {
-                    (u, UnitSource::Option)
-                } else {
-                    (Unit::AsIs, UnitSource::Default)
-                };
-            ChannelInfo {
-                name,
-                unit,
-                unit_source,
-                column: i,
-            }
-        })
-        .collect();
+    let dialect = read_dialect(path)?;
+    let plan = plan_columns(&fpath, &dialect, opts)?;
+    let mut file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+    std::io::Seek::seek(
+        &mut file,
+        std::io::SeekFrom::Start(dialect.data_offset as u64),
+    )
+    .map_err(|e| io_error(path, e))?;
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
+    let header = plan.header.clone();
+    let time_col = plan.time_col;
+    let selected = plan.selected.clone();
+    let channels = plan.channels.clone();
     let factors: Vec<f64> = channels.iter().map(|c| c.unit.to_report_factor()).collect();
-
     let ncols = header.len();
     let mut slots: Vec<Option<(usize, f64)>> = vec![None; ncols];
     let off = usize::from(time_col.is_some());
     if let Some(tc) = time_col {
-        slots[tc] = Some((0, 1.0));
+        slots[tc] = Some((0, plan.time_unit.map_or(1.0, TimeUnit::seconds)));
     }
     for (k, &c) in selected.iter().enumerate() {
         slots[c] = Some((off + k, factors[k]));
@@ -433,6 +339,13 @@ pub fn stream_csv(
         header: header.clone(),
         slots,
         width: off + selected.len(),
+        delim: dialect.delimiter.byte(),
+        whitespace: dialect.delimiter == Delimiter::Whitespace,
+        decimal_comma: dialect.decimal_comma,
+    };
+    let opts = &IngestOptions {
+        fs: opts.fs.or(plan.fs_from_metadata),
+        ..opts.clone()
     };
     let mut rows: u64 = 0;
     let mut timing = Timing::new(opts, fpath.clone());
@@ -453,7 +366,7 @@ pub fn stream_csv(
     let block = (size as usize)
         .saturating_add(1)
         .clamp(1 << 12, BLOCK_BYTES);
-    read_rows(&mut reader, &layout, block, &mut feed)?;
+    read_rows(&mut reader, &layout, block, dialect.data_line, &mut feed)?;
     if rows == 0 {
         return Err(SignalError::HeaderOnly {
             file: fpath.clone(),
@@ -470,7 +383,410 @@ pub fn stream_csv(
         fs_hz,
         samples,
         resampled,
+        ingest: plan.record,
     })
+}
+
+/// The dialect of a log: sniffed from its head, or plain CSV with the header on line 1.
+fn read_dialect(path: &Path) -> Result<Dialect, SignalError> {
+    let mut f = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+    let mut head = Vec::new();
+    (&mut f)
+        .take(sniff::HEAD_BYTES as u64)
+        .read_to_end(&mut head)
+        .map_err(|e| io_error(path, e))?;
+    let eof = head.len() < sniff::HEAD_BYTES;
+    if let Some(d) = sniff::sniff_dialect(&head, eof) {
+        return Ok(d);
+    }
+    plain_dialect(path, &head)
+}
+
+/// Plain CSV: the first line is the header (read by the csv crate for quoted names).
+fn plain_dialect(path: &Path, head: &[u8]) -> Result<Dialect, SignalError> {
+    let fpath = path.to_path_buf();
+    let end = memchr::memchr(b'\n', head).map_or(head.len(), |p| p + 1);
+    let mut record = csv::ByteRecord::new();
+    let mut hr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(&head[..end]);
+    if !hr
+        .read_byte_record(&mut record)
+        .map_err(|e| SignalError::BadHeader {
+            file: fpath.clone(),
+            message: e.to_string(),
+        })?
+    {
+        return Err(SignalError::EmptyFile { file: fpath });
+    }
+    let header: Vec<String> = record
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let s = String::from_utf8_lossy(b).trim().to_string();
+            if i == 0 {
+                s.trim_start_matches('\u{feff}').to_string()
+            } else {
+                s
+            }
+        })
+        .collect();
+    Ok(Dialect {
+        delimiter: Delimiter::Comma,
+        decimal_comma: false,
+        width: header.len(),
+        header: Some(header),
+        header_line: 1,
+        units: None,
+        data_offset: end,
+        data_line: 2,
+        skipped_lines: 0,
+        empty_columns: Vec::new(),
+        metadata_columns: Vec::new(),
+        first_row: Vec::new(),
+    })
+}
+
+/// Which columns are read, and how: the outcome of the header, the options and the dialect.
+struct ColumnPlan {
+    header: Vec<String>,
+    time_col: Option<usize>,
+    time_unit: Option<TimeUnit>,
+    selected: Vec<usize>,
+    channels: Vec<ChannelInfo>,
+    fs_from_metadata: Option<f64>,
+    record: IngestRecord,
+}
+
+/// Names that hold a sampling rate in a metadata column.
+fn is_rate_name(name: &str) -> bool {
+    let n = name.trim().to_ascii_lowercase().replace([' ', '-'], "_");
+    matches!(
+        n.as_str(),
+        "fs" | "fs_hz" | "sample_rate" | "sampling_rate" | "samplerate" | "sample_rate_hz"
+    )
+}
+
+fn header_names(
+    file: &Path,
+    d: &Dialect,
+    opts: &IngestOptions,
+) -> Result<Vec<String>, SignalError> {
+    match (&opts.columns, &d.header) {
+        (Some(cols), _) if cols.len() != d.width => Err(SignalError::Unsupported {
+            file: file.to_path_buf(),
+            message: format!(
+                "line {}: the rows have {} fields but --columns names {}",
+                d.data_line,
+                d.width,
+                cols.len()
+            ),
+        }),
+        (Some(cols), _) => Ok(cols.iter().map(|c| c.trim().to_string()).collect()),
+        (None, Some(h)) => Ok(h.clone()),
+        (None, None) => Err(SignalError::Unsupported {
+            file: file.to_path_buf(),
+            message: format!(
+                "line {}: no header line above the first data row; pass --columns with {} names (e.g. --columns time,a,b)",
+                d.data_line, d.width
+            ),
+        }),
+    }
+}
+
+fn check_names(
+    file: &Path,
+    header: &[String],
+    ignored: &[usize],
+    named_only: bool,
+) -> Result<(), SignalError> {
+    for (i, h) in header.iter().enumerate() {
+        if ignored.contains(&i) {
+            continue;
+        }
+        if h.is_empty() && !named_only {
+            return Err(SignalError::BadHeader {
+                file: file.to_path_buf(),
+                message: format!("column {} has no channel name", i + 1),
+            });
+        }
+        if !h.is_empty() && header[..i].contains(h) {
+            return Err(SignalError::BadHeader {
+                file: file.to_path_buf(),
+                message: format!("channel name `{h}` appears twice"),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The time column's unit: the option, the units row, the name, else seconds unless the first
+/// value is an epoch timestamp whose unit cannot be guessed.
+fn time_unit_of(
+    file: &Path,
+    d: &Dialect,
+    opts: &IngestOptions,
+    col: usize,
+    name: &str,
+) -> Result<TimeUnit, SignalError> {
+    if let Some(u) = opts.time_unit {
+        return Ok(u);
+    }
+    if let Some(u) = d
+        .units
+        .as_ref()
+        .and_then(|u| TimeUnit::parse(u[col].trim_matches(['[', ']', '(', ')'])).ok())
+    {
+        return Ok(u);
+    }
+    if let Some(Some(u)) = time_column_unit(name) {
+        return Ok(u);
+    }
+    let first = d
+        .first_row
+        .get(col)
+        .and_then(|c| sniff::number(c, d.decimal_comma));
+    match first {
+        Some(v) if v.abs() > 1e8 => Err(SignalError::Unsupported {
+            file: file.to_path_buf(),
+            message: format!(
+                "line {}: time column `{name}` starts at {v:e}, an epoch timestamp whose unit the name does not state; pass --time-unit s, ms, us or ns",
+                d.data_line
+            ),
+        }),
+        _ => Ok(TimeUnit::S),
+    }
+}
+
+fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<ColumnPlan, SignalError> {
+    let header = header_names(file, d, opts)?;
+    let mut ignored: Vec<usize> = d.empty_columns.clone();
+    ignored.extend(d.metadata_columns.iter().map(|m| m.0));
+    ignored.sort_unstable();
+    check_names(file, &header, &ignored, opts.channels.is_some())?;
+    let mut time_col = header
+        .iter()
+        .enumerate()
+        .position(|(i, h)| !ignored.contains(&i) && is_time_column(h));
+    let mut notes = dialect_notes(file, d, &header);
+    if opts.fs_override
+        && let (Some(tc), Some(fs)) = (time_col, opts.fs)
+    {
+        notes.push(format!(
+            "time column `{}` ignored: --fs-override uses --fs {fs} Hz",
+            header[tc]
+        ));
+        ignored.push(tc);
+        time_col = None;
+    }
+    let time_unit = match time_col {
+        Some(tc) => Some(time_unit_of(file, d, opts, tc, &header[tc])?),
+        None => None,
+    };
+    if let (Some(tc), Some(u)) = (time_col, time_unit)
+        && u != TimeUnit::S
+    {
+        notes.push(format!("time column `{}` in {}", header[tc], u.name()));
+    }
+    let mut metadata = Vec::new();
+    let mut fs_from_metadata = None;
+    for &(c, v) in &d.metadata_columns {
+        if let Some(v) = v {
+            metadata.push((header[c].clone(), v));
+            if is_rate_name(&header[c]) && time_col.is_none() && opts.fs.is_none() && v > 0.0 {
+                fs_from_metadata = Some(v);
+                notes.push(format!(
+                    "sampling rate {v} Hz read from metadata column `{}`",
+                    header[c]
+                ));
+            }
+        }
+    }
+    let selected = select_columns(file, &header, time_col, &ignored, opts)?;
+    let channels = channel_infos(&header, &selected, d, opts);
+    let record = IngestRecord {
+        delimiter: d.delimiter.name(),
+        decimal: if d.decimal_comma { "," } else { "." },
+        skipped_lines: d.skipped_lines,
+        time_column: time_col.map(|i| header[i].clone()),
+        time_unit,
+        ignored_columns: ignored.iter().map(|&i| column_label(&header, i)).collect(),
+        metadata,
+        notes,
+    };
+    Ok(ColumnPlan {
+        header,
+        time_col,
+        time_unit,
+        selected,
+        channels,
+        fs_from_metadata,
+        record,
+    })
+}
+
+fn column_label(header: &[String], i: usize) -> String {
+    if header[i].is_empty() {
+        format!("column {}", i + 1)
+    } else {
+        header[i].clone()
+    }
+}
+
+/// One stderr line per dialect decision that departs from a plain comma CSV.
+fn dialect_notes(file: &Path, d: &Dialect, header: &[String]) -> Vec<String> {
+    let f = file.display();
+    let mut notes = Vec::new();
+    if d.delimiter != Delimiter::Comma {
+        notes.push(format!("{f}: fields separated by {}", d.delimiter.name()));
+    }
+    if d.decimal_comma {
+        notes.push(format!("{f}: decimal comma"));
+    }
+    if d.skipped_lines > 0 {
+        notes.push(format!(
+            "{f}: skipped {} preamble/comment line(s) before line {}",
+            d.skipped_lines, d.data_line
+        ));
+    }
+    if d.header.is_none() {
+        notes.push(format!("{f}: no header; column names from --columns"));
+    }
+    if d.units.is_some() {
+        notes.push(format!("{f}: line {}: units row read", d.header_line + 1));
+    }
+    for &c in &d.empty_columns {
+        notes.push(format!(
+            "{f}: column `{}` is empty: ignored",
+            column_label(header, c)
+        ));
+    }
+    for &(c, v) in &d.metadata_columns {
+        let what = match v {
+            Some(v) => format!("metadata {v}"),
+            None => "metadata with several values".into(),
+        };
+        notes.push(format!(
+            "{f}: column `{}` is filled only at the top ({what}): not read as a channel",
+            column_label(header, c)
+        ));
+    }
+    notes
+}
+
+fn select_columns(
+    file: &Path,
+    header: &[String],
+    time_col: Option<usize>,
+    ignored: &[usize],
+    opts: &IngestOptions,
+) -> Result<Vec<usize>, SignalError> {
+    let usable = |i: usize| Some(i) != time_col && !ignored.contains(&i) && !header[i].is_empty();
+    let available = || {
+        (0..header.len())
+            .filter(|&i| usable(i))
+            .map(|i| header[i].as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let selected: Vec<usize> = match &opts.channels {
+        Some(list) => {
+            let mut v = Vec::new();
+            for name in list {
+                let i = header
+                    .iter()
+                    .position(|h| h == name)
+                    .filter(|i| Some(*i) != time_col)
+                    .ok_or_else(|| SignalError::NoSuchChannel {
+                        file: file.to_path_buf(),
+                        name: name.clone(),
+                        available: available(),
+                    })?;
+                v.push(i);
+            }
+            v
+        }
+        None => (0..header.len()).filter(|&i| usable(i)).collect(),
+    };
+    if selected.is_empty() {
+        return Err(SignalError::BadHeader {
+            file: file.to_path_buf(),
+            message: format!(
+                "no data channel: the only column{} `{}` {}",
+                if header.len() > 1 { "s" } else { "" },
+                header.join(","),
+                if time_col.is_some() {
+                    "is a time column"
+                } else {
+                    "holds no channel"
+                }
+            ),
+        });
+    }
+    if time_col.is_none() && opts.fs.is_none() && !is_rate_column_present(header, ignored) {
+        return Err(SignalError::NoSamplingRate {
+            file: file.to_path_buf(),
+        });
+    }
+    if let Some(fs) = opts.fs
+        && !(fs.is_finite() && fs > 0.0)
+    {
+        return Err(SignalError::BadParameter {
+            name: "fs",
+            value: fs.to_string(),
+            reason: "must be positive".into(),
+        });
+    }
+    for (name, _) in &opts.channel_units {
+        if !header.contains(name) {
+            return Err(SignalError::NoSuchChannel {
+                file: file.to_path_buf(),
+                name: name.clone(),
+                available: available(),
+            });
+        }
+    }
+    Ok(selected)
+}
+
+fn is_rate_column_present(header: &[String], ignored: &[usize]) -> bool {
+    ignored.iter().any(|&i| is_rate_name(&header[i]))
+}
+
+fn channel_infos(
+    header: &[String],
+    selected: &[usize],
+    d: &Dialect,
+    opts: &IngestOptions,
+) -> Vec<ChannelInfo> {
+    selected
+        .iter()
+        .map(|&i| {
+            let name = header[i].clone();
+            let row_unit = d
+                .units
+                .as_ref()
+                .and_then(|u| Unit::parse(u[i].trim_matches(['[', ']', '(', ')'])).ok())
+                .filter(|u| *u != Unit::AsIs);
+            let (unit, unit_source) =
+                if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
+                    (*u, UnitSource::Option)
+                } else if let Some(u) = Unit::from_name(&name).or(row_unit) {
+                    (u, UnitSource::Name)
+                } else if let Some(u) = opts.default_unit {
+                    (u, UnitSource::Option)
+                } else {
+                    (Unit::AsIs, UnitSource::Default)
+                };
+            ChannelInfo {
+                name,
+                unit,
+                unit_source,
+                column: i,
+            }
+        })
+        .collect()
 }
 
 /// Where each needed column of a row goes: `slots[column] = (index in the row, unit factor)`;
@@ -480,6 +796,10 @@ struct RowLayout {
     header: Vec<String>,
     slots: Vec<Option<(usize, f64)>>,
     width: usize,
+    /// Field delimiter (a space stands for runs of whitespace when `whitespace`).
+    delim: u8,
+    whitespace: bool,
+    decimal_comma: bool,
 }
 
 /// Rows parsed from one chunk of the file: values (`width` per row), line numbers, and the
@@ -505,6 +825,9 @@ fn parse_line(
     if line.is_empty() {
         return Ok(false);
     }
+    if l.whitespace {
+        return parse_spaced(line, line_no, l, out);
+    }
     let base = out.len();
     out.resize(base + l.width, 0.0);
     let ncols = l.slots.len();
@@ -512,11 +835,11 @@ fn parse_line(
     let mut start = 0usize;
     let mut bad: Option<(usize, usize, usize)> = None;
     loop {
-        let end = memchr::memchr(b',', &line[start..]).map_or(line.len(), |p| start + p);
+        let end = memchr::memchr(l.delim, &line[start..]).map_or(line.len(), |p| start + p);
         if c < ncols
             && let Some((k, factor)) = l.slots[c]
         {
-            match parse_cell(&line[start..end]) {
+            match parse_cell(&line[start..end], l.decimal_comma) {
                 Some(v) => out[base + k] = v * factor,
                 None => {
                     if bad.is_none() {
@@ -554,11 +877,52 @@ fn parse_line(
     Ok(true)
 }
 
+/// A whitespace-separated line: fields are runs of non-blank bytes.
+fn parse_spaced(
+    line: &[u8],
+    line_no: u64,
+    l: &RowLayout,
+    out: &mut Vec<f64>,
+) -> Result<bool, SignalError> {
+    let fields: Vec<&[u8]> = line
+        .split(|b| matches!(b, b' ' | b'\t'))
+        .filter(|f| !f.is_empty())
+        .collect();
+    if fields.is_empty() {
+        return Ok(false);
+    }
+    if fields.len() != l.slots.len() {
+        return Err(SignalError::RaggedRow {
+            file: l.file.clone(),
+            line: line_no,
+            expected: l.slots.len(),
+            found: fields.len(),
+        });
+    }
+    let base = out.len();
+    out.resize(base + l.width, 0.0);
+    for (c, cell) in fields.iter().enumerate() {
+        if let Some((k, factor)) = l.slots[c] {
+            match parse_cell(cell, l.decimal_comma) {
+                Some(v) => out[base + k] = v * factor,
+                None => {
+                    out.truncate(base);
+                    return Err(bad_cell(&l.file, line_no, &l.header[c], cell));
+                }
+            }
+        }
+    }
+    Ok(true)
+}
+
 /// Fast path for the common line `num,num,...,num` (no blanks, no quotes, every needed cell a
 /// finite number, the right field count): parses it in place, fields cut by the number parser
 /// itself. Returns the bytes consumed and whether a newline ended the line, or `None` (with
 /// `out` untouched) for anything else, which `parse_line` then judges and reports.
 fn fast_line(bytes: &[u8], l: &RowLayout, out: &mut Vec<f64>) -> Option<(usize, bool)> {
+    if l.whitespace || l.decimal_comma {
+        return None;
+    }
     let base = out.len();
     out.resize(base + l.width, 0.0);
     let r = (|| {
@@ -575,11 +939,11 @@ fn fast_line(bytes: &[u8], l: &RowLayout, out: &mut Vec<f64>) -> Option<(usize, 
                     i += used;
                 }
                 None => {
-                    i = memchr::memchr2(b',', b'\n', &bytes[i..]).map_or(bytes.len(), |q| i + q);
+                    i = memchr::memchr2(l.delim, b'\n', &bytes[i..]).map_or(bytes.len(), |q| i + q);
                 }
             }
             if c + 1 < ncols {
-                if bytes.get(i) != Some(&b',') {
+                if bytes.get(i) != Some(&l.delim) {
                     return None;
                 }
                 i += 1;
@@ -679,6 +1043,7 @@ fn parse_quoted(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
+        .delimiter(l.delim)
         .from_reader(chunk);
     let mut rec = csv::ByteRecord::new();
     loop {
@@ -710,7 +1075,7 @@ fn parse_quoted(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
         p.vals.resize(base + l.width, 0.0);
         for (c, cell) in rec.iter().enumerate() {
             if let Some((k, factor)) = l.slots[c] {
-                match parse_cell(cell) {
+                match parse_cell(cell, l.decimal_comma) {
                     Some(v) => p.vals[base + k] = v * factor,
                     None => {
                         p.vals.truncate(base);
@@ -736,10 +1101,11 @@ fn read_rows(
     reader: &mut impl Read,
     l: &RowLayout,
     block: usize,
+    first_line: u64,
     feed: &mut impl FnMut(&[f64], &[u64]) -> Result<(), SignalError>,
 ) -> Result<(), SignalError> {
     use rayon::prelude::*;
-    let mut next_line: u64 = 2;
+    let mut next_line: u64 = first_line;
     let mut carry: Vec<u8> = Vec::new();
     let pieces = (rayon::current_num_threads() * 4).max(1);
     loop {
@@ -835,6 +1201,9 @@ fn read_rows(
 /// odd step at the start of the log.
 const PRIME_ROWS: usize = 33;
 
+/// Largest relative difference between `--fs` and the rate of the time column.
+const FS_AGREEMENT: f64 = 1e-3;
+
 /// Largest step, in sampling intervals, that `resample` bridges by interpolation.
 const MAX_RESAMPLE_GAP: f64 = 100.0;
 
@@ -913,9 +1282,12 @@ impl Timing {
         let primed = std::mem::take(&mut self.primed);
         let mut steps: Vec<f64> = primed.windows(2).map(|w| w[1].0 - w[0].0).collect();
         steps.sort_by(|a, b| a.total_cmp(b));
-        self.dt = match self.fs_option {
-            Some(fs) => 1.0 / fs,
-            None => steps.get(steps.len() / 2).copied().unwrap_or(1.0),
+        // Steps are checked against the time column's own interval; `--fs` is compared with
+        // the whole span at the end, where rounding of the times no longer matters.
+        self.dt = match (steps.get(steps.len() / 2), self.fs_option) {
+            (Some(&dt), _) => dt,
+            (None, Some(fs)) => 1.0 / fs,
+            (None, None) => 1.0,
         };
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(SignalError::NoSamplingRate {
@@ -1015,13 +1387,14 @@ impl Timing {
             // The caller's rate wins, but it must describe the same log.
             if self.rows > 1 {
                 let from_time = (self.rows - 1) as f64 / (self.last_t - self.t0);
-                if (from_time - fs).abs() > self.tol * fs {
+                if (from_time - fs).abs() > FS_AGREEMENT * fs {
                     return Err(SignalError::BadParameter {
                         name: "fs",
                         value: fs.to_string(),
                         reason: format!(
-                            "the time column of {} gives {from_time:.6} Hz",
-                            self.file.display()
+                            "--fs {fs} Hz disagrees with the time column of {}, which gives {from_time:.6} Hz (more than {}%); drop --fs, or pass --fs-override to use --fs and ignore the time column",
+                            self.file.display(),
+                            FS_AGREEMENT * 100.0
                         ),
                     });
                 }

@@ -1,0 +1,320 @@
+//! Dialect sniffing: from the head of a text log, decides the delimiter, the decimal mark,
+//! which lines before the data are preamble (comments, `key: value` blocks, LabVIEW headers),
+//! the header and an optional units row, and which columns are empty or hold metadata only.
+//! Every decision is recorded so that the caller can print it once and put it in the JSON.
+
+/// Bytes of the file looked at to decide the dialect.
+pub const HEAD_BYTES: usize = 1 << 20;
+/// Lines of the head looked at (data rows after the first are only used for column checks).
+const HEAD_LINES: usize = 400;
+/// Data lines at the end of the head used to choose the delimiter.
+const TAIL_LINES: usize = 20;
+
+/// How fields are separated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Delimiter {
+    Comma,
+    Semicolon,
+    Tab,
+    /// Runs of spaces or tabs.
+    Whitespace,
+}
+
+impl Delimiter {
+    pub fn byte(self) -> u8 {
+        match self {
+            Delimiter::Comma => b',',
+            Delimiter::Semicolon => b';',
+            Delimiter::Tab => b'\t',
+            Delimiter::Whitespace => b' ',
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Delimiter::Comma => "comma",
+            Delimiter::Semicolon => "semicolon",
+            Delimiter::Tab => "tab",
+            Delimiter::Whitespace => "whitespace",
+        }
+    }
+}
+
+/// What the sniffer found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dialect {
+    pub delimiter: Delimiter,
+    pub decimal_comma: bool,
+    /// Column names (empty names for unnamed columns); `None` for a headerless file.
+    pub header: Option<Vec<String>>,
+    /// Line of the header (1-based), if any.
+    pub header_line: u64,
+    /// Units row under the header, one entry per column.
+    pub units: Option<Vec<String>>,
+    /// Byte offset and line (1-based) of the first data row.
+    pub data_offset: usize,
+    pub data_line: u64,
+    /// Lines before the first data row that are neither the header nor blank.
+    pub skipped_lines: u64,
+    /// Columns empty in every data row of the head.
+    pub empty_columns: Vec<usize>,
+    /// Columns filled only in the first rows: (column, the one value if there is one).
+    pub metadata_columns: Vec<(usize, Option<f64>)>,
+    /// Fields per data row.
+    pub width: usize,
+    /// First data row's fields (for checks on the time column).
+    pub first_row: Vec<String>,
+}
+
+fn is_comment(line: &str) -> bool {
+    let t = line.trim_start();
+    t.starts_with('#') || t.starts_with('%') || t.starts_with("//")
+}
+
+/// Splits one line into trimmed fields, quotes removed.
+pub fn split_fields(line: &str, d: Delimiter) -> Vec<String> {
+    if d == Delimiter::Whitespace {
+        return line.split_whitespace().map(str::to_string).collect();
+    }
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .delimiter(d.byte())
+        .from_reader(line.as_bytes());
+    let mut rec = csv::StringRecord::new();
+    match rdr.read_record(&mut rec) {
+        Ok(true) => rec.iter().map(|s| s.trim().to_string()).collect(),
+        _ => line
+            .split(d.byte() as char)
+            .map(|s| s.trim().to_string())
+            .collect(),
+    }
+}
+
+/// A number in the file's decimal mark.
+pub fn number(cell: &str, decimal_comma: bool) -> Option<f64> {
+    let t = cell.trim();
+    let v: f64 = if decimal_comma {
+        t.replace(',', ".").parse().ok()?
+    } else {
+        t.parse().ok()?
+    };
+    v.is_finite().then_some(v)
+}
+
+/// Whether every non-empty field is a number, and at least one is.
+fn numeric_row(fields: &[String], decimal_comma: bool) -> bool {
+    let mut any = false;
+    for f in fields {
+        if f.is_empty() {
+            continue;
+        }
+        if number(f, decimal_comma).is_none() {
+            return false;
+        }
+        any = true;
+    }
+    any
+}
+
+fn count_fields(line: &str, d: Delimiter) -> usize {
+    match d {
+        Delimiter::Whitespace => line.split_whitespace().count(),
+        _ => line.bytes().filter(|&b| b == d.byte()).count() + 1,
+    }
+}
+
+/// The delimiter every data line of the tail agrees on; tab and semicolon before comma, since
+/// a decimal comma also counts the same on every line.
+fn choose_delimiter(tail: &[&str]) -> Delimiter {
+    for d in [Delimiter::Tab, Delimiter::Semicolon, Delimiter::Comma] {
+        let counts: Vec<usize> = tail.iter().map(|l| count_fields(l, d)).collect();
+        if counts.first().is_some_and(|&c| c > 1) && counts.iter().all(|&c| c == counts[0]) {
+            return d;
+        }
+    }
+    let counts: Vec<usize> = tail
+        .iter()
+        .map(|l| count_fields(l, Delimiter::Whitespace))
+        .collect();
+    if counts.first().is_some_and(|&c| c > 1) && counts.iter().all(|&c| c == counts[0]) {
+        return Delimiter::Whitespace;
+    }
+    Delimiter::Comma
+}
+
+/// A decimal comma: some cell of the tail reads as a number once its comma is a point, and no
+/// cell holds a point.
+fn decimal_comma(tail: &[&str], d: Delimiter) -> bool {
+    if d == Delimiter::Comma {
+        return false;
+    }
+    let cells: Vec<String> = tail.iter().flat_map(|l| split_fields(l, d)).collect();
+    let has_comma_number = cells
+        .iter()
+        .any(|c| c.contains(',') && number(c, true).is_some());
+    let has_point = cells
+        .iter()
+        .any(|c| c.contains('.') && number(c, false).is_some());
+    has_comma_number && !has_point
+}
+
+/// Reads the head of the file and decides the dialect. `None` when the head shows no clear
+/// structure (no numeric row): the caller then reads the first line as the header, as plain
+/// CSV, and the row parser reports what is wrong where.
+pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
+    let bom = if head.starts_with(b"\xEF\xBB\xBF") {
+        3
+    } else {
+        0
+    };
+    let text = String::from_utf8_lossy(&head[bom..]);
+    let mut lines: Vec<(usize, &str)> = Vec::new();
+    let mut pos = bom;
+    let mut rest: &str = &text;
+    while let Some(nl) = rest.find('\n') {
+        let line = &rest[..nl];
+        lines.push((pos, line.strip_suffix('\r').unwrap_or(line)));
+        pos += nl + 1;
+        rest = &rest[nl + 1..];
+        if lines.len() == HEAD_LINES {
+            break;
+        }
+    }
+    if eof && !rest.is_empty() && lines.len() < HEAD_LINES {
+        lines.push((pos, rest.strip_suffix('\r').unwrap_or(rest)));
+    }
+    // A lossy decode may shift offsets; only trust them when the head is valid UTF-8.
+    if std::str::from_utf8(&head[bom..]).is_err() && text.len() != head.len() - bom {
+        return None;
+    }
+    let content: Vec<usize> = (0..lines.len())
+        .filter(|&i| !lines[i].1.trim().is_empty() && !is_comment(lines[i].1))
+        .collect();
+    let tail: Vec<&str> = content
+        .iter()
+        .rev()
+        .take(TAIL_LINES)
+        .rev()
+        .map(|&i| lines[i].1)
+        .collect();
+    if tail.is_empty() {
+        return None;
+    }
+    let delimiter = choose_delimiter(&tail);
+    let dec = decimal_comma(&tail, delimiter);
+    let width = count_fields(tail[tail.len() - 1], delimiter);
+    let first = content.iter().position(|&i| {
+        let f = split_fields(lines[i].1, delimiter);
+        f.len() == width && numeric_row(&f, dec)
+    })?;
+    let data_idx = content[first];
+    let above: Vec<usize> = content[..first].to_vec();
+    let (header, header_idx, units) = header_above(&lines, &above, delimiter, dec, width)?;
+    // Comments and preamble lines count; blank lines do not.
+    let nonblank = lines[..data_idx]
+        .iter()
+        .filter(|l| !l.1.trim().is_empty())
+        .count() as u64;
+    let skipped = nonblank - u64::from(header.is_some()) - u64::from(units.is_some());
+    let rows: Vec<Vec<String>> = content[first..]
+        .iter()
+        .map(|&i| split_fields(lines[i].1, delimiter))
+        .filter(|f| f.len() == width)
+        .collect();
+    let (empty_columns, metadata_columns) = column_use(&rows, width, dec);
+    Some(Dialect {
+        delimiter,
+        decimal_comma: dec,
+        header,
+        header_line: header_idx.map_or(0, |i| i as u64 + 1),
+        units,
+        data_offset: lines[data_idx].0,
+        data_line: data_idx as u64 + 1,
+        skipped_lines: skipped,
+        empty_columns,
+        metadata_columns,
+        width,
+        first_row: rows.first().cloned().unwrap_or_default(),
+    })
+}
+
+type HeaderFound = Option<(Option<Vec<String>>, Option<usize>, Option<Vec<String>>)>;
+
+/// The header is the nearest non-numeric line above the data with as many fields (a trailing
+/// delimiter may add one empty name); a second such line right under it is a units row.
+fn header_above(
+    lines: &[(usize, &str)],
+    above: &[usize],
+    d: Delimiter,
+    dec: bool,
+    width: usize,
+) -> HeaderFound {
+    let fits = |i: usize| -> Option<Vec<String>> {
+        let mut f = split_fields(lines[i].1, d);
+        while f.len() > width && f.last().is_some_and(|s| s.is_empty()) {
+            f.pop();
+        }
+        while f.len() < width && d != Delimiter::Whitespace && f.len() + 1 == width {
+            f.push(String::new());
+        }
+        // A name is never a number: a line holding one is a bad data row, not a header.
+        let any_number = f.iter().any(|c| !c.is_empty() && c.parse::<f64>().is_ok())
+            || f.iter().any(|c| number(c, dec).is_some());
+        (f.len() == width && !any_number).then_some(f)
+    };
+    let Some(&last) = above.last() else {
+        return Some((None, None, None));
+    };
+    let Some(lower) = fits(last) else {
+        // As wide as the data but not a header: a broken row, which the plain reader reports.
+        if count_fields(lines[last].1, d) == width {
+            return None;
+        }
+        return Some((None, None, None));
+    };
+    if above.len() >= 2 {
+        let prev = above[above.len() - 2];
+        if prev + 1 == last
+            && let Some(upper) = fits(prev)
+            && looks_like_units(&lower)
+        {
+            return Some((Some(upper), Some(prev), Some(lower)));
+        }
+    }
+    Some((Some(lower), Some(last), None))
+}
+
+/// Units rows hold short unit words: `s`, `g`, `m/s^2`, `[V]`, `(N)`.
+fn looks_like_units(fields: &[String]) -> bool {
+    fields.iter().all(|f| {
+        let t = f.trim_matches(|c| matches!(c, '[' | ']' | '(' | ')'));
+        t.len() <= 8 && !t.contains(' ') && t.parse::<f64>().is_err()
+    })
+}
+
+/// Columns empty in every row, and columns filled only in a first run of rows (metadata).
+fn column_use(
+    rows: &[Vec<String>],
+    width: usize,
+    dec: bool,
+) -> (Vec<usize>, Vec<(usize, Option<f64>)>) {
+    let mut empty = Vec::new();
+    let mut meta = Vec::new();
+    for c in 0..width {
+        let filled: Vec<bool> = rows.iter().map(|r| !r[c].is_empty()).collect();
+        let n = filled.iter().filter(|&&f| f).count();
+        if n == 0 {
+            empty.push(c);
+            continue;
+        }
+        let prefix = filled.iter().take_while(|&&f| f).count();
+        // Metadata: a top block, then empty for the rest of the head (at least as many rows).
+        if prefix == n && n < rows.len() && rows.len() - n >= 2 {
+            let values: Vec<Option<f64>> = rows[..n].iter().map(|r| number(&r[c], dec)).collect();
+            let one = (n == 1).then(|| values[0]).flatten();
+            meta.push((c, one));
+        }
+    }
+    (empty, meta)
+}

@@ -1,0 +1,94 @@
+//! Time columns: which names are time, and the unit the name states (s, ms, µs, ns).
+
+use crate::error::SignalError;
+
+/// Unit of a time column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum TimeUnit {
+    #[serde(rename = "s")]
+    S,
+    #[serde(rename = "ms")]
+    Ms,
+    #[serde(rename = "us")]
+    Us,
+    #[serde(rename = "ns")]
+    Ns,
+}
+
+impl TimeUnit {
+    pub fn parse(s: &str) -> Result<TimeUnit, SignalError> {
+        Self::from_word(s).ok_or_else(|| SignalError::BadParameter {
+            name: "time-unit",
+            value: s.to_string(),
+            reason: "expected s, ms, us or ns".into(),
+        })
+    }
+
+    fn from_word(s: &str) -> Option<TimeUnit> {
+        match s.trim().to_lowercase().as_str() {
+            "s" | "sec" | "secs" | "seconds" => Some(TimeUnit::S),
+            "ms" | "msec" | "millis" => Some(TimeUnit::Ms),
+            "us" | "µs" | "μs" | "usec" | "micros" => Some(TimeUnit::Us),
+            "ns" | "nsec" | "nanos" => Some(TimeUnit::Ns),
+            _ => None,
+        }
+    }
+
+    /// Seconds per unit.
+    pub fn seconds(self) -> f64 {
+        match self {
+            TimeUnit::S => 1.0,
+            TimeUnit::Ms => 1e-3,
+            TimeUnit::Us => 1e-6,
+            TimeUnit::Ns => 1e-9,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TimeUnit::S => "s",
+            TimeUnit::Ms => "ms",
+            TimeUnit::Us => "us",
+            TimeUnit::Ns => "ns",
+        }
+    }
+}
+
+/// Words that name a time column.
+const TIME_WORDS: [&str; 10] = [
+    "t",
+    "time",
+    "times",
+    "timestamp",
+    "x_value",
+    "seconds",
+    "sec",
+    "epoch",
+    "elapsed",
+    "elapsed_time",
+];
+
+/// `Some(unit)` for a time column: `Some(Some(u))` when the name states the unit (`time_ms`,
+/// `time [us]`, `seconds`), `Some(None)` when it does not (`time`, `t`, `timestamp`).
+pub fn time_column_unit(name: &str) -> Option<Option<TimeUnit>> {
+    let n = name.trim().to_lowercase();
+    let (base, bracket) = match n.find(['[', '(']) {
+        Some(i) => (
+            n[..i].trim(),
+            Some(n[i + 1..].trim_end_matches([']', ')']).trim()),
+        ),
+        None => (n.as_str(), None),
+    };
+    let base = base.trim();
+    if let Some(b) = bracket {
+        let unit = TimeUnit::from_word(b)?;
+        return TIME_WORDS.contains(&base).then_some(Some(unit));
+    }
+    if TIME_WORDS.contains(&base) {
+        let stated = matches!(base, "seconds" | "sec").then_some(TimeUnit::S);
+        return Some(stated);
+    }
+    let (stem, suffix) = base.rsplit_once(['_', ' '])?;
+    let unit = TimeUnit::from_word(suffix)?;
+    TIME_WORDS.contains(&stem).then_some(Some(unit))
+}

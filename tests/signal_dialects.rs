@@ -1,0 +1,306 @@
+//! Log dialects as labs export them: each rule of the reader on a synthetic file holding a
+//! 50 Hz sine of amplitude 2 sampled at 1000 Hz for exactly 1 s (50 whole periods), so the
+//! reference values are analytic: RMS = 2/√2 and fs = 1000 Hz. Values are written with 9
+//! decimals, so the RMS must match to 1e-6 relative and the rate to 1e-9 relative.
+
+use satqual::signal::ingest::{IngestOptions, TimeUnit, read_csv};
+use std::path::PathBuf;
+
+const FS: f64 = 1000.0;
+const N: usize = 1000;
+
+fn sample(i: usize) -> f64 {
+    2.0 * (2.0 * std::f64::consts::PI * 50.0 * i as f64 / FS).sin()
+}
+
+/// Writes `text` to a fresh file called `name`.
+fn write(name: &str, text: &str) -> PathBuf {
+    let dir = crate::common::temp_dir(&format!("dialect-{name}"));
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// Rows `time<sep>value`, times scaled by `time_scale` (1 for seconds, 1e3 for ms, ...).
+fn rows(sep: &str, time_scale: f64, time_offset: f64, decimal_comma: bool) -> String {
+    let mut s = String::new();
+    for i in 0..N {
+        let t = format!("{:.9}", time_offset + i as f64 / FS * time_scale);
+        let v = format!("{:.9}", sample(i));
+        let (t, v) = if decimal_comma {
+            (t.replace('.', ","), v.replace('.', ","))
+        } else {
+            (t, v)
+        };
+        s.push_str(&format!("{t}{sep}{v}\n"));
+    }
+    s
+}
+
+fn rms(x: &[f64]) -> f64 {
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// The analytic checks: 1000 Hz (1e-9 relative), RMS 2/√2 (1e-6 relative), N samples.
+fn check(p: &std::path::Path, opts: &IngestOptions, channel: &str) -> satqual::signal::Log {
+    let log = read_csv(p, opts).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        (log.info.fs_hz - FS).abs() < FS * 1e-9,
+        "fs {}",
+        log.info.fs_hz
+    );
+    let x = log.channel(channel).unwrap();
+    assert_eq!(x.len(), N);
+    let want = 2.0 / 2f64.sqrt();
+    assert!((rms(x) - want).abs() < want * 1e-6, "rms {}", rms(x));
+    log
+}
+
+#[test]
+fn semicolon_with_decimal_comma() {
+    let p = write(
+        "semi.csv",
+        &format!("time;acc_g\n{}", rows(";", 1.0, 0.0, true)),
+    );
+    let log = check(&p, &IngestOptions::default(), "acc_g");
+    assert_eq!(log.info.ingest.delimiter, "semicolon");
+    assert_eq!(log.info.ingest.decimal, ",");
+}
+
+#[test]
+fn tab_separated_headerless_needs_columns() {
+    let p = write("tab.txt", &rows("\t", 1.0, 0.0, false));
+    let err = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("tab.txt") && err.contains("line 1") && err.contains("--columns"),
+        "{err}"
+    );
+    let opts = IngestOptions {
+        columns: Some(vec!["time".into(), "acc_g".into()]),
+        ..Default::default()
+    };
+    let log = check(&p, &opts, "acc_g");
+    assert_eq!(log.info.ingest.delimiter, "tab");
+}
+
+#[test]
+fn whitespace_separated_with_blank_first_line_and_comments() {
+    let text = format!(
+        "\n# exported by a logger\n# channel 1: accelerometer\ntime   acc_g\n{}",
+        rows("   ", 1.0, 0.0, false)
+    );
+    let p = write("ws.dat", &text);
+    let log = check(&p, &IngestOptions::default(), "acc_g");
+    assert_eq!(log.info.ingest.delimiter, "whitespace");
+    assert_eq!(log.info.ingest.skipped_lines, 2);
+}
+
+#[test]
+fn key_value_preamble_units_row_bom_crlf_and_quotes() {
+    let body = rows(",", 1.0, 0.0, false).replace('\n', "\r\n");
+    let text = format!(
+        "\u{feff}Device: DAQ-9\r\nDate: 2024-05-01\r\n\"time\",\"acc\"\r\n\"s\",\"g\"\r\n{body}"
+    );
+    let p = write("preamble.csv", &text);
+    let log = check(&p, &IngestOptions::default(), "acc");
+    assert_eq!(log.info.ingest.skipped_lines, 2);
+    // The units row states g for `acc`, whose name states none.
+    assert_eq!(log.info.channels[0].unit, satqual::signal::Unit::G);
+}
+
+#[test]
+fn trailing_delimiter_and_sample_rate_in_first_row_only() {
+    // The benchmark layout: header ends with a delimiter, `Fs` filled only in the first row,
+    // no time column: the rate comes from the metadata column.
+    let mut text = String::from("\"a\",\"b\",\"Fs\",\n");
+    for i in 0..N {
+        let fs = if i == 0 { "1000" } else { "" };
+        text.push_str(&format!("{:.9},{:.9},{fs},\n", sample(i), -sample(i)));
+    }
+    let p = write("bench.csv", &text);
+    let opts = IngestOptions {
+        channels: Some(vec!["a".into(), "b".into()]),
+        ..Default::default()
+    };
+    let log = check(&p, &opts, "a");
+    assert_eq!(log.info.ingest.metadata, vec![("Fs".to_string(), 1000.0)]);
+    assert!(
+        log.info
+            .ingest
+            .ignored_columns
+            .contains(&"column 4".to_string())
+    );
+    // Without --channels the empty and metadata columns are not channels either.
+    let log = check(&p, &IngestOptions::default(), "b");
+    assert_eq!(log.info.channels.len(), 2);
+}
+
+#[test]
+fn time_in_milliseconds_and_epoch_nanoseconds() {
+    let p = write(
+        "ms.csv",
+        &format!("time_ms,acc_g\n{}", rows(",", 1e3, 0.0, false)),
+    );
+    let log = check(&p, &IngestOptions::default(), "acc_g");
+    assert_eq!(log.info.ingest.time_unit, Some(TimeUnit::Ms));
+    assert_eq!(log.info.channels.len(), 1);
+    // Epoch nanoseconds: 1.7e18 ns (2023). A bare `timestamp` name states no unit.
+    let mut text = String::from("timestamp,acc_g\n");
+    for i in 0..N {
+        text.push_str(&format!(
+            "{},{:.9}\n",
+            1_700_000_000_000_000_000u64 + i as u64 * 1_000_000,
+            sample(i)
+        ));
+    }
+    let p = write("epoch.csv", &text);
+    let err = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("line 2") && err.contains("--time-unit"),
+        "{err}"
+    );
+    let opts = IngestOptions {
+        time_unit: Some(TimeUnit::Ns),
+        ..Default::default()
+    };
+    // f64 holds 1.7e18 to 256 ns: the rate over the 1 s span is good to 1e-6, not 1e-9.
+    let log = read_csv(&p, &opts).unwrap();
+    assert!(
+        (log.info.fs_hz - FS).abs() < FS * 1e-6,
+        "{}",
+        log.info.fs_hz
+    );
+}
+
+#[test]
+fn fs_disagreeing_with_the_time_column_is_an_error() {
+    let p = write(
+        "t.csv",
+        &format!("time,acc_g\n{}", rows(",", 1.0, 0.0, false)),
+    );
+    // 0.3% off, as 3210 Hz on a 3200 Hz log.
+    let opts = IngestOptions {
+        fs: Some(1003.0),
+        ..Default::default()
+    };
+    let err = read_csv(&p, &opts).unwrap_err().to_string();
+    assert!(
+        err.contains("1003") && err.contains("1000") && err.contains("--fs-override"),
+        "{err}"
+    );
+    let opts = IngestOptions {
+        fs: Some(1003.0),
+        fs_override: true,
+        ..Default::default()
+    };
+    let log = read_csv(&p, &opts).unwrap();
+    assert_eq!(log.info.fs_hz, 1003.0);
+    assert_eq!(log.info.time_column, None);
+}
+
+#[test]
+fn psd_json_carries_the_ingest_record_and_stderr_the_decisions() {
+    let p = write(
+        "semi-cli.csv",
+        &format!("time;acc_g\n{}", rows(";", 1.0, 0.0, true)),
+    );
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["ingest"]["delimiter"], "semicolon");
+    assert_eq!(v["ingest"]["decimal"], ",");
+    assert_eq!(err.matches("decimal comma").count(), 1, "{err}");
+}
+
+/// A UFF58 time history (function type 1, real single, 1 ms step) whose record 9 holds the
+/// axis label `axis` and the units label `unit`.
+fn uff58(axis: &str, unit: &str, scale: f64) -> String {
+    let mut s = String::from("    -1\n    58\nsine\nNONE\nNONE\nAcc 1\nNONE\n");
+    s.push_str(
+        "    1         0    0         0 sine               1   3 NONE               0   0\n",
+    );
+    s.push_str(&format!(
+        "         2{N:10}         1 0.00000E+00 1.00000E-03 0.00000E+00\n"
+    ));
+    s.push_str("        17    0    0    0 Time                 s                   \n");
+    s.push_str(&format!(
+        "         0    0    0    0 {axis:<20} {unit:<20}\n"
+    ));
+    s.push_str("         0    0    0    0 NONE                 NONE                \n");
+    s.push_str("         0    0    0    0 NONE                 NONE                \n");
+    for chunk in (0..N).collect::<Vec<_>>().chunks(6) {
+        for &i in chunk {
+            s.push_str(&format!("{:13.5E}", sample(i) * scale));
+        }
+        s.push('\n');
+    }
+    s.push_str("    -1\n");
+    s
+}
+
+#[test]
+fn uff58_unit_comes_from_the_units_field_not_the_axis_label() {
+    // 2 g amplitude written in m/s2 (9.80665 m/s2 per g, ISO 80000-3): reported RMS 2/√2 g to
+    // the 6 significant digits of the E13.5 values (1e-5 relative).
+    let p = write("acc.uff", &uff58("Acceleration", "m/s2", 9.80665));
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let ch = &v["channels"][0];
+    assert_eq!(ch["unit"], "g");
+    let want = 2.0 / 2f64.sqrt();
+    let rms = ch["rms"].as_f64().unwrap();
+    assert!((rms - want).abs() < want * 1e-5, "{rms}");
+    // A pressure channel labelled `General` is not in g.
+    let p = write("pa.uff", &uff58("General", "Pa", 1.0));
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["channels"][0]["unit"], "as-is");
+}
+
+#[test]
+fn uff58_with_id_line_4_none_is_named_by_its_response_entity() {
+    let text = uff58("Acceleration", "g", 1.0).replace("\nAcc 1\n", "\nNONE\n");
+    let p = write("none.uff", &text);
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["channels"][0]["name"], "sine");
+}
+
+#[test]
+fn a_bad_first_row_is_reported_not_taken_for_a_header_or_units_row() {
+    let p = write(
+        "bad-row.csv",
+        &format!("time,acc_g\n0,x\n{}", rows(",", 1.0, 0.001, false)),
+    );
+    let err = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("line 2") && err.contains("`x`"), "{err}");
+    let p = write(
+        "nan-row.csv",
+        &format!("time,acc_g\nNaN,x\n{}", rows(",", 1.0, 0.001, false)),
+    );
+    let err = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("line 2"), "{err}");
+}
