@@ -45,6 +45,11 @@ pub struct LogPsd {
     pub channels: Vec<ChannelPsd>,
 }
 
+/// The most spectral lines a PSD read from a UFF58 file may span from 0 Hz (16.7 million, 128
+/// MB of values): a record whose start frequency is a huge multiple of its spacing is refused
+/// rather than zero-filled.
+pub const MAX_PSD_LINES: usize = 1 << 24;
+
 /// Computes (or, for UFF PSD records, reads) the PSD of the selected channels of `path`.
 pub fn psd_of_file(
     path: &Path,
@@ -200,6 +205,16 @@ fn psd_of_uff(
                         file: path.to_path_buf(),
                         line: r.line,
                         message: format!("the PSD starts at {first} Hz, not on a multiple of its {step} Hz spacing"),
+                    });
+                }
+                // The lines below the first are zero-filled: a start far above the spacing
+                // (a mutated header) would ask for an absurd allocation.
+                let lines = offset + r.re.len() as f64;
+                if lines > MAX_PSD_LINES as f64 {
+                    return Err(SignalError::Uff {
+                        file: path.to_path_buf(),
+                        line: r.line,
+                        message: format!("the PSD starts at {first} Hz with a {step} Hz spacing: {lines:e} spectral lines from 0 Hz, above the limit of {MAX_PSD_LINES}"),
                     });
                 }
                 let mut values = vec![0.0; offset as usize];
