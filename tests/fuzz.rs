@@ -206,7 +206,12 @@ fn read_all(r: &mut impl std::io::Read) -> String {
 }
 
 /// The properties of the contract on one finished run.
-fn check_outcome(code: Option<i32>, stdout: &str, stderr: &str, input: &Path) -> Result<(), String> {
+fn check_outcome(
+    code: Option<i32>,
+    stdout: &str,
+    stderr: &str,
+    input: &Path,
+) -> Result<(), String> {
     match code {
         Some(0 | 1) => {
             for (name, text) in [("stdout", stdout), ("stderr", stderr)] {
@@ -262,7 +267,11 @@ fn write_mutant(rng: &mut ChaCha8Rng, seed: &Seed, dir: &Path, case: usize) -> P
     for _ in 0..1 + pick(rng, 3) {
         mutate_once(rng, &mut text);
     }
-    let path = dir.join(format!("{}--case{case}.{}", seed.command(), seed.extension()));
+    let path = dir.join(format!(
+        "{}--case{case}.{}",
+        seed.command(),
+        seed.extension()
+    ));
     std::fs::write(&path, &text).unwrap();
     path
 }

@@ -58,6 +58,12 @@ refused_input_cases! {
     error: |from, to| scene_error(&paper_stack(), from, to);
     stack_with_huge_column_elements: "column_elements = 1" => "column_elements = 100000",
         contains ["key `stack.column_elements`", "4800000 in the columns", "limit of 200000"];
+    separation_spring_of_1e12: "stiffness_n_m = 607.1" => "stiffness_n_m = 1e12",
+        contains ["key `separation.spring.stiffness_n_m`", "[1e-3, 1e7] N/m"];
+    separation_stroke_of_1e6_m: "stroke_m = 0.0803" => "stroke_m = 1e6",
+        contains ["key `separation.spring.stroke_m`", "[1e-6, 1e1] m"];
+    monte_carlo_of_a_billion_runs: "runs = 0" => "runs = 1000000000",
+        contains ["key `separation.dispersion.runs`", "limit of 100000"];
 }
 
 #[test]
@@ -79,7 +85,13 @@ fn frequency_grid_past_its_limit_is_refused_before_allocation() {
 #[test]
 fn frequency_grid_on_a_degenerate_band_is_an_error_not_an_abort() {
     // lo = 0 made log10(hi/lo) infinite and the point count usize::MAX: "capacity overflow".
-    for (lo, hi) in [(0.0, 100.0), (-1.0, 100.0), (10.0, f64::NAN), (4e-320, 1.0), (5.0, 5.0)] {
+    for (lo, hi) in [
+        (0.0, 100.0),
+        (-1.0, 100.0),
+        (10.0, f64::NAN),
+        (4e-320, 1.0),
+        (5.0, 5.0),
+    ] {
         let e = grid::clustered(lo, hi, &[(50.0, 0.05)], GridSpec::SINE, &[]).unwrap_err();
         assert!(e.to_string().contains("frequency band"), "{lo}..{hi}: {e}");
     }

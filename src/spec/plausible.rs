@@ -50,6 +50,13 @@ pub const DISPLACEMENT_M: Range = range(1e-12, 10.0, "m", false);
 pub const PSD_G2_HZ: Range = range(1e-15, 1e6, "g²/Hz", false);
 /// A test duration.
 pub const DURATION_S: Range = range(1e-3, 1e8, "s", false);
+/// A separation spring: soft coil springs to stiff disc springs. Above, the integrator's step
+/// shrinks with 1/√k and the run takes minutes.
+pub const SEPARATION_SPRING_N_M: Range = range(1e-3, 1e7, "N/m", false);
+/// A separation spring's stroke.
+pub const STROKE_M: Range = range(1e-6, 10.0, "m", false);
+/// The simulated time of a release.
+pub const SEPARATION_TIME_S: Range = range(1e-6, 1e5, "s", false);
 /// A frequency of the analysis.
 pub const FREQUENCY_HZ: Range = range(1e-6, 1e7, "Hz", false);
 

@@ -302,20 +302,64 @@ pub mod defaults {
 
 /// Checks signs, ranges and references of `[separation]` against `[stack]`. Every error names
 /// the key.
+/// The most Monte Carlo runs a scene may ask for: each run is a full release simulation.
+pub const MAX_MONTE_CARLO_RUNS: usize = 100_000;
+
+/// Plausible ranges of the release spring and of the run's length: a stiff spring or a long
+/// stroke makes the integrator take steps for minutes, with no result worth having.
+fn check_spring_and_budget(spec: &SeparationSpec, loc: &Locator) -> Result<(), SpecError> {
+    use super::plausible::{SEPARATION_SPRING_N_M, SEPARATION_TIME_S, STROKE_M, check};
+    let sp = &spec.spring;
+    check(
+        loc,
+        "separation.spring.stiffness_n_m",
+        sp.stiffness_n_m,
+        SEPARATION_SPRING_N_M,
+    )?;
+    check(loc, "separation.spring.stroke_m", sp.stroke_m, STROKE_M)?;
+    check(
+        loc,
+        "separation.max_time_s",
+        spec.max_time_s,
+        SEPARATION_TIME_S,
+    )?;
+    if spec.dispersion.runs > MAX_MONTE_CARLO_RUNS {
+        return Err(loc.err(
+            "separation.dispersion.runs",
+            format!(
+                "{} runs is above the limit of {MAX_MONTE_CARLO_RUNS}",
+                spec.dispersion.runs
+            ),
+        ));
+    }
+    Ok(())
+}
+
 pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Result<(), SpecError> {
     let n = stack.satellites;
+    // Finite, not subnormal and at most 1e30: a NaN fails every comparison, so the tests are
+    // written to accept, not to refuse.
+    let sane = |v: f64| v.is_normal() && v > 0.0 && v <= 1e30;
     let pos = |key: &str, v: f64| -> Result<(), SpecError> {
-        if v > 0.0 {
+        if sane(v) {
             Ok(())
         } else {
-            Err(loc.err(key, format!("must be positive, got {v}")))
+            Err(loc.err(
+                key,
+                format!("must be positive, finite, not subnormal and at most 1e30, got {v}"),
+            ))
         }
     };
     let nonneg = |key: &str, v: f64| -> Result<(), SpecError> {
-        if v >= 0.0 {
+        if v == 0.0 || sane(v) {
             Ok(())
         } else {
-            Err(loc.err(key, format!("must not be negative, got {v}")))
+            Err(loc.err(
+                key,
+                format!(
+                    "must not be negative, and finite, not subnormal and at most 1e30, got {v}"
+                ),
+            ))
         }
     };
     // [stack] quantities the release depends on.
@@ -394,6 +438,7 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
     let sp = &spec.spring;
     pos("separation.spring.stiffness_n_m", sp.stiffness_n_m)?;
     pos("separation.spring.stroke_m", sp.stroke_m)?;
+    check_spring_and_budget(spec, loc)?;
     pos(
         "separation.spring.installed_length_m",
         sp.installed_length_m,
