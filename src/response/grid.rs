@@ -68,9 +68,10 @@ pub fn clustered(
     Ok(build(lo, hi, modes, spec, extra))
 }
 
-/// A band the grid can be built on: finite, positive, increasing, not subnormal.
+/// A band the grid can be built on: finite, positive, increasing, not subnormal, and with a
+/// finite ratio (the log grid is lo·(hi/lo)^t).
 fn check_band(lo: f64, hi: f64) -> Result<(), ResponseError> {
-    if !(lo.is_normal() && hi.is_normal() && lo > 0.0 && hi > lo) {
+    if !(lo.is_normal() && hi.is_normal() && lo > 0.0 && hi > lo && (hi / lo).is_finite()) {
         return Err(ResponseError::Invalid(format!(
             "the frequency band {lo}..{hi} Hz is not a finite, positive, increasing range"
         )));
