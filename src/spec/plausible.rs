@@ -53,6 +53,8 @@ pub const DURATION_S: Range = range(1e-3, 1e8, "s", false);
 /// A separation spring: soft coil springs to stiff disc springs. Above, the integrator's step
 /// shrinks with 1/√k and the run takes minutes.
 pub const SEPARATION_SPRING_N_M: Range = range(1e-3, 1e7, "N/m", false);
+/// A separation spring's relative stiffness error (magnitude; above −1 checked apart).
+pub const STIFFNESS_ERROR: Range = range(0.0, 10.0, "", true);
 /// A separation spring's stroke.
 pub const STROKE_M: Range = range(1e-6, 10.0, "m", false);
 /// The simulated time of a release.

@@ -335,6 +335,12 @@ fn check_spring_and_budget(spec: &SeparationSpec, loc: &Locator) -> Result<(), S
     Ok(())
 }
 
+/// A relative spring error above +1000 % describes another spring, not an error of this one;
+/// it also multiplies the stiffness past its plausible range (a hang of the integrator).
+fn check_stiffness_error(loc: &Locator, key: &str, e: f64) -> Result<(), SpecError> {
+    super::plausible::check(loc, key, e.abs(), super::plausible::STIFFNESS_ERROR)
+}
+
 pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Result<(), SpecError> {
     let n = stack.satellites;
     // Finite, not subnormal and at most 1e30: a NaN fails every comparison, so the tests are
@@ -461,6 +467,8 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
                 format!("must exceed -1, got {e}"),
             ));
         }
+        let key = format!("separation.spring.stiffness_error[{j}]");
+        check_stiffness_error(loc, &key, *e)?;
     }
     let iface = |key: String, k: usize| -> Result<(), SpecError> {
         if (1..=n).contains(&k) {
@@ -474,6 +482,8 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
         if let Some(s) = o.stroke_m {
             for (j, v) in s.iter().enumerate() {
                 pos(&format!("separation.interface[{i}].stroke_m[{j}]"), *v)?;
+                let key = format!("separation.interface[{i}].stroke_m[{j}]");
+                super::plausible::check(loc, &key, *v, super::plausible::STROKE_M)?;
             }
         }
         if let Some(e) = o.stiffness_error {
@@ -484,6 +494,8 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
                         format!("must exceed -1, got {v}"),
                     ));
                 }
+                let key = format!("separation.interface[{i}].stiffness_error[{j}]");
+                check_stiffness_error(loc, &key, *v)?;
             }
         }
         if let Some(f) = o.free_length_m {
