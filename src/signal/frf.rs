@@ -160,11 +160,11 @@ const MAX_SAMPLE: f64 = 1e100;
 /// file and the channel rather than written as NaN or inf.
 fn check_live(log: &super::ingest::Log, name: &str, k: usize) -> Result<(), SignalError> {
     let d = &log.data[k];
-    if let Some(v) = d.iter().find(|v| !(v.abs() <= MAX_SAMPLE)) {
+    if let Some(v) = d.iter().find(|v| v.is_nan() || v.abs() > MAX_SAMPLE) {
         return Err(SignalError::Unsupported {
             file: log.info.file.clone(),
             message: format!(
-                "channel `{name}` holds the sample {v}, beyond ±{MAX_SAMPLE:e}: its spectrum would overflow"
+                "channel `{name}` holds the sample {v:e}, beyond ±{MAX_SAMPLE:e}: its spectrum would overflow"
             ),
         });
     }
