@@ -59,6 +59,9 @@ pub const STIFFNESS_ERROR: Range = range(0.0, 10.0, "", true);
 pub const STROKE_M: Range = range(1e-6, 10.0, "m", false);
 /// The simulated time of a release.
 pub const SEPARATION_TIME_S: Range = range(1e-6, 1e5, "s", false);
+/// The bar modes' damping ratio in a release (0: undamped); an overdamped ratio made the
+/// integrator take millions of steps.
+pub const BAR_ZETA: Range = range(5e-5, 0.999, "", true);
 /// A frequency of the analysis.
 pub const FREQUENCY_HZ: Range = range(1e-6, 1e7, "Hz", false);
 

@@ -409,10 +409,11 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
     // Timing and integrator.
     nonneg("separation.unlock_time_s", spec.unlock_time_s)?;
     nonneg("separation.release_interval_s", spec.release_interval_s)?;
-    if !(spec.tolerance > 0.0 && spec.tolerance <= 1e-2) {
+    // Below 1e-12 the step falls to the round-off floor before any progress.
+    if !(spec.tolerance >= 1e-12 && spec.tolerance <= 1e-2) {
         return Err(loc.err(
             "separation.tolerance",
-            format!("must lie in (0, 1e-2], got {}", spec.tolerance),
+            format!("must lie in [1e-12, 1e-2], got {}", spec.tolerance),
         ));
     }
     pos("separation.max_step_s", spec.max_step_s)?;
@@ -440,6 +441,8 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
         return Err(loc.err("separation.bar_elements", "must be at least 2"));
     }
     nonneg("separation.bar_damping_ratio", spec.bar_damping_ratio)?;
+    let key = "separation.bar_damping_ratio";
+    super::plausible::check(loc, key, spec.bar_damping_ratio, super::plausible::BAR_ZETA)?;
     // Springs.
     let sp = &spec.spring;
     pos("separation.spring.stiffness_n_m", sp.stiffness_n_m)?;
