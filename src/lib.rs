@@ -30,6 +30,7 @@ pub mod error;
 pub mod fem;
 pub mod gates;
 pub mod modal;
+pub mod output_check;
 pub mod pipeline;
 pub mod report;
 pub mod response;

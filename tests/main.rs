@@ -49,3 +49,7 @@ mod signal_signature;
 mod signal_srs;
 mod signal_sweep;
 mod signal_welch;
+
+// Hostile input: limits, plausibility, finite outputs, mutation fuzzing.
+mod fuzz;
+mod hostile_inputs;

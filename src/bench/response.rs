@@ -136,7 +136,7 @@ pub fn run() -> Result<(String, String), Error> {
                 tail_ratio: tail,
             };
             let t = Instant::now();
-            let f = crate::response::random::grid_for(&spec, &basis, g);
+            let f = crate::response::random::grid_for(&spec, &basis, g)?;
             let v = grms(&frf, &rows, &f, &table);
             let tails = if tail > 1.0 {
                 format!(", tails ×{tail}")
@@ -220,7 +220,7 @@ pub fn run() -> Result<(String, String), Error> {
             tail_ratio: 0.0,
         };
         let t = Instant::now();
-        let f = grid::clustered(slo, shi, &modes2, g, &[5.0, 8.0, 100.0]);
+        let f = grid::clustered(slo, shi, &modes2, g, &[5.0, 8.0, 100.0])?;
         let v = peaks_on(&f);
         sine.push(GridRow {
             grid: format!("clustered {pd}/decade + {pm}/mode (±4ζ)"),

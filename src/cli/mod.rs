@@ -109,8 +109,10 @@ impl Printer {
         }
     }
 
-    /// The machine-readable result, printed only with `--json`.
+    /// The machine-readable result, printed only with `--json`. Its numbers are checked with
+    /// or without `--json`: a non-finite result is an error, never a number printed as text.
     pub fn json<T: serde::Serialize>(&self, value: &T) -> Result<(), Error> {
+        satqual::output_check::check_json(value, "JSON output")?;
         if self.json {
             let s = serde_json::to_string_pretty(value).map_err(|e| Error::Other(e.to_string()))?;
             let _ = writeln!(std::io::stdout(), "{s}");

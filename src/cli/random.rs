@@ -103,6 +103,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             );
             satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
         }
+        satqual::output_check::check_json(results, "random.json")?;
         let json =
             serde_json::to_string_pretty(results).map_err(|e| Error::Other(e.to_string()))?;
         satqual::report::write_atomic(&dir.join("random.json"), json.as_bytes())?;

@@ -158,6 +158,7 @@ fn write_outputs(dir: &Path, results: &[response::SineAxis]) -> Result<(), Error
         );
         satqual::report::write_atomic(&dir.join(format!("{name}.svg")), svg.as_bytes())?;
     }
+    satqual::output_check::check_json(results, "sine.json")?;
     let json = serde_json::to_string_pretty(results).map_err(|e| Error::Other(e.to_string()))?;
     satqual::report::write_atomic(&dir.join("sine.json"), json.as_bytes())?;
     Ok(())

@@ -24,6 +24,13 @@ use std::path::Path;
 /// Parent folders are created.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     use std::io::Write;
+    // Every CSV the program writes passes here: a NaN or infinity in a cell is an error.
+    if path.extension().is_some_and(|e| e == "csv") {
+        crate::output_check::check_csv(
+            &path.display().to_string(),
+            &String::from_utf8_lossy(bytes),
+        )?;
+    }
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())

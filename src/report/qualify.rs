@@ -19,6 +19,7 @@ pub fn render(q: &Qualification) -> Result<Files, Error> {
         .iter()
         .map(|f| (f.file(), f.svg.clone().into_bytes()))
         .collect();
+    crate::output_check::check_json(q, "results.json")?;
     let json =
         serde_json::to_string_pretty(q).map_err(|e| Error::Other(format!("results.json: {e}")))?;
     files.push(("results.json".into(), (json + "\n").into_bytes()));

@@ -90,7 +90,11 @@ pub struct RandomAxis {
 }
 
 /// The frequency grid of a random analysis for a basis.
-pub fn grid_for(spec: &RandomSpec, basis: &super::Basis, g: GridSpec) -> Vec<f64> {
+pub fn grid_for(
+    spec: &RandomSpec,
+    basis: &super::Basis,
+    g: GridSpec,
+) -> Result<Vec<f64>, crate::error::ResponseError> {
     let t = spec.table();
     let (lo, hi) = (t[0].0, t[t.len() - 1].0);
     let modes = basis.excited_modes();
@@ -107,7 +111,7 @@ pub fn run(
 ) -> Result<RandomAxis, Error> {
     let basis = prep.basis(axis, opts.modes, opts.residual)?;
     let frf = prep.modal_frf(&basis);
-    let f = grid_for(spec, &basis, opts.grid);
+    let f = grid_for(spec, &basis, opts.grid)?;
     let mut out = evaluate(prep, spec, axis, &frf, &f)?;
     out.modes_used = basis.n_modes;
     out.residual_vector = basis.len() > basis.n_modes;

@@ -106,7 +106,7 @@ pub fn run(
         .iter()
         .flat_map(|s| [s.from_hz, s.to_hz])
         .collect();
-    let f = grid::clustered(lo, hi, &modes, opts.grid, &breaks);
+    let f = grid::clustered(lo, hi, &modes, opts.grid, &breaks)?;
     let mut out = evaluate(prep, spec, axis, &frf, &f)?;
     out.modes_used = basis.n_modes;
     out.residual_vector = basis.len() > basis.n_modes;

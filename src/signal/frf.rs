@@ -152,6 +152,34 @@ pub fn resonances(
 
 /// FRF between channels `input` and `output` averaged over the records of several CSV logs
 /// (each log read with `ingest`; all must share one sampling rate within 1e-6).
+/// Above this magnitude a sample's square, summed over a segment, overflows the spectra.
+const MAX_SAMPLE: f64 = 1e100;
+
+/// A channel whose samples are all equal has no spectrum: H1 = Gxy/Gxx would be 0/0 on every
+/// line; a sample too large to square makes the spectra infinite. Either is refused with the
+/// file and the channel rather than written as NaN or inf.
+fn check_live(log: &super::ingest::Log, name: &str, k: usize) -> Result<(), SignalError> {
+    let d = &log.data[k];
+    if let Some(v) = d.iter().find(|v| v.is_nan() || v.abs() > MAX_SAMPLE) {
+        return Err(SignalError::Unsupported {
+            file: log.info.file.clone(),
+            message: format!(
+                "channel `{name}` holds the sample {v:e}, beyond ±{MAX_SAMPLE:e}: its spectrum would overflow"
+            ),
+        });
+    }
+    let first = d.first().copied().unwrap_or(0.0);
+    if d.iter().all(|&v| v == first) {
+        return Err(SignalError::Unsupported {
+            file: log.info.file.clone(),
+            message: format!(
+                "channel `{name}` is constant ({first} in every sample): a dead channel has no spectrum, so no FRF"
+            ),
+        });
+    }
+    Ok(())
+}
+
 pub fn frf_of_files(
     paths: &[std::path::PathBuf],
     input: &str,
@@ -179,6 +207,10 @@ pub fn frf_of_files(
                 ),
             });
         }
+    }
+    for l in &logs {
+        check_live(l, input, 0)?;
+        check_live(l, output, 1)?;
     }
     let records: Vec<(&[f64], &[f64])> = logs
         .iter()

@@ -45,6 +45,31 @@ pub struct LogPsd {
     pub channels: Vec<ChannelPsd>,
 }
 
+/// The most spectral lines a PSD read from a UFF58 file may span from 0 Hz (16.7 million, 128
+/// MB of values): a record whose start frequency is a huge multiple of its spacing is refused
+/// rather than zero-filled.
+pub const MAX_PSD_LINES: usize = 1 << 24;
+
+/// Refuses a channel whose spectrum or RMS is not finite: samples near 1e154 or above
+/// overflow when squared, and such a number must never reach an output.
+fn finite_channels(path: &Path, channels: Vec<ChannelPsd>) -> Result<Vec<ChannelPsd>, SignalError> {
+    for c in &channels {
+        let finite = c.grms.is_finite()
+            && c.rms.is_none_or(f64::is_finite)
+            && c.psd.values.iter().all(|v| v.is_finite());
+        if !finite {
+            return Err(SignalError::Unsupported {
+                file: path.to_path_buf(),
+                message: format!(
+                    "channel `{}`: the spectrum is not finite (values too large to square: keep |x| below 1e150)",
+                    c.name
+                ),
+            });
+        }
+    }
+    Ok(channels)
+}
+
 /// Computes (or, for UFF PSD records, reads) the PSD of the selected channels of `path`.
 pub fn psd_of_file(
     path: &Path,
@@ -108,6 +133,7 @@ pub fn psd_of_file(
             samples: info.samples,
         })
         .collect();
+    let channels = finite_channels(path, channels)?;
     Ok(LogPsd {
         source: PsdSource::CsvWelch,
         fs_hz: info.fs_hz,
@@ -202,6 +228,23 @@ fn psd_of_uff(
                         message: format!("the PSD starts at {first} Hz, not on a multiple of its {step} Hz spacing"),
                     });
                 }
+                // The lines below the first are zero-filled: a start far above the spacing
+                // (a mutated header) would ask for an absurd allocation.
+                let lines = offset + r.re.len() as f64;
+                if lines > MAX_PSD_LINES as f64 {
+                    return Err(SignalError::Uff {
+                        file: path.to_path_buf(),
+                        line: r.line,
+                        message: format!("the PSD starts at {first} Hz with a {step} Hz spacing: {lines:e} spectral lines from 0 Hz, above the limit of {MAX_PSD_LINES}"),
+                    });
+                }
+                if let Some(v) = r.re.iter().find(|v| **v < 0.0) {
+                    return Err(SignalError::Uff {
+                        file: path.to_path_buf(),
+                        line: r.line,
+                        message: format!("the PSD record holds a negative level {v}: a power spectral density is never negative"),
+                    });
+                }
                 let mut values = vec![0.0; offset as usize];
                 values.extend(r.re.iter().map(|v| v * k * k));
                 let psd = Psd::from_lines(step, values);
@@ -233,6 +276,7 @@ fn psd_of_uff(
             }
         })
         .collect::<Result<_, _>>()?;
+    let channels = finite_channels(path, channels)?;
     let fs_hz = channels.first().map_or(0.0, |c| c.psd.fs);
     Ok(LogPsd {
         source: if all_psd {

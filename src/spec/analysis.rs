@@ -6,6 +6,7 @@
 //! source; nowhere else in the code is a factor of safety written down.
 
 use super::Locator;
+use super::plausible;
 use crate::error::SpecError;
 use serde::{Deserialize, Serialize};
 
@@ -215,6 +216,23 @@ pub fn axis_index(a: &str) -> Option<usize> {
     }
 }
 
+/// The plausible ranges of a sine segment's band and level.
+fn check_sine_segment(
+    g: &SineSegment,
+    k: &dyn Fn(&str) -> String,
+    loc: &Locator,
+) -> Result<(), SpecError> {
+    plausible::check(loc, &k("from_hz"), g.from_hz, plausible::FREQUENCY_HZ)?;
+    plausible::check(loc, &k("to_hz"), g.to_hz, plausible::FREQUENCY_HZ)?;
+    if let Some(a) = g.acceleration_g {
+        plausible::check(loc, &k("acceleration_g"), a, plausible::ACCELERATION_G)?;
+    }
+    if let Some(d) = g.displacement_m {
+        plausible::check(loc, &k("displacement_m"), d, plausible::DISPLACEMENT_M)?;
+    }
+    Ok(())
+}
+
 /// Checks the response sections. `model` is the expanded generic model (for node references).
 pub fn validate(
     file: &super::SceneFile,
@@ -237,6 +255,9 @@ pub fn validate(
                 format!("the amplification Q must be above 0.5 (ζ < 1), got {q}"),
             ));
         }
+        if let Some(q) = d.q {
+            plausible::check(loc, "damping.q", q, plausible::Q)?;
+        }
         if let Some(z) = d.zeta
             && (z <= 0.0 || z >= 1.0)
         {
@@ -244,6 +265,9 @@ pub fn validate(
                 "damping.zeta",
                 format!("the damping ratio must lie in (0, 1), got {z}"),
             ));
+        }
+        if let Some(z) = d.zeta {
+            plausible::check(loc, "damping.zeta", z, plausible::ZETA)?;
         }
         if let Some(t) = &d.table {
             if t.is_empty() {
@@ -257,7 +281,8 @@ pub fn validate(
                         format!("the damping ratio must lie in (0, 1), got {}", p[1]),
                     ));
                 }
-                if p[0] < 0.0 {
+                plausible::check(loc, &k, p[1], plausible::ZETA)?;
+                if !p[0].is_finite() || p[0] < 0.0 {
                     return Err(loc.err(&k, format!("negative frequency {} Hz", p[0])));
                 }
                 if i > 0 && p[0] <= t[i - 1][0] {
@@ -330,6 +355,7 @@ pub fn validate(
                 }
                 _ => {}
             }
+            check_sine_segment(g, &k, loc)?;
             if i > 0 {
                 let prev = s.segment[i - 1].to_hz;
                 let rel = (g.from_hz - prev).abs() / prev;
@@ -370,6 +396,8 @@ pub fn validate(
                     ),
                 ));
             }
+            plausible::check(loc, &k, p[0], plausible::FREQUENCY_HZ)?;
+            plausible::check(loc, &k, p[1], plausible::PSD_G2_HZ)?;
             if i > 0 && p[0] <= r.profile[i - 1][0] {
                 return Err(loc.err(
                     &k,
@@ -385,6 +413,9 @@ pub fn validate(
             && d <= 0.0
         {
             return Err(loc.err("random.duration_s", format!("must be positive, got {d}")));
+        }
+        if let Some(d) = r.duration_s {
+            plausible::check(loc, "random.duration_s", d, plausible::DURATION_S)?;
         }
     }
     let mut names = std::collections::HashSet::new();

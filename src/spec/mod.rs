@@ -11,6 +11,7 @@ pub mod analysis;
 #[cfg(test)]
 mod doc_keys;
 pub mod model;
+pub mod plausible;
 pub mod qualify;
 pub mod separation;
 pub mod stack;

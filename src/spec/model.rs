@@ -3,6 +3,7 @@
 //! the checks that make a model well-posed before the FE layer sees it.
 
 use super::Locator;
+use super::plausible;
 use crate::error::SpecError;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -207,8 +208,33 @@ pub struct ModalSpec {
     pub solver: SolverChoice,
 }
 
-/// Checks references, uniqueness, positivity and geometry of the generic model.
+/// The most beam elements a model may have (6 DOFs per node, so about 1.2 million DOFs): far
+/// above any real stack model, and below what fits in memory with the solvers' factors. A
+/// larger count is a typo or a mutated file, refused before the model is assembled.
+pub const MAX_MODEL_ELEMENTS: usize = 200_000;
+
+/// Checks the model's total element count against [`MAX_MODEL_ELEMENTS`], naming the beam
+/// whose count pushes the total over the limit.
+fn check_model_size(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
+    let mut total: usize = 0;
+    for (i, b) in f.beam.iter().enumerate() {
+        total = total.saturating_add(b.elements);
+        if total > MAX_MODEL_ELEMENTS {
+            return Err(loc.err(
+                &format!("beam[{i}].elements"),
+                format!(
+                    "the model would have at least {total} beam elements ({} on this beam), above the limit of {MAX_MODEL_ELEMENTS}",
+                    b.elements
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Checks references, uniqueness, positivity, plausibility and geometry of the generic model.
 pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
+    check_model_size(f, loc)?;
     let mut materials = HashSet::new();
     for (i, m) in f.material.iter().enumerate() {
         let k = |s: &str| format!("material[{i}].{s}");
@@ -217,6 +243,18 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         }
         positive(loc, &k("youngs_modulus_pa"), m.youngs_modulus_pa)?;
         positive(loc, &k("density_kg_m3"), m.density_kg_m3)?;
+        plausible::check(
+            loc,
+            &k("youngs_modulus_pa"),
+            m.youngs_modulus_pa,
+            plausible::YOUNGS_MODULUS_PA,
+        )?;
+        plausible::check(
+            loc,
+            &k("density_kg_m3"),
+            m.density_kg_m3,
+            plausible::DENSITY_KG_M3,
+        )?;
         if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
             return Err(loc.err(
                 &k("poisson_ratio"),
@@ -224,10 +262,10 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
             ));
         }
         if let Some(v) = m.yield_strength_pa {
-            positive(loc, &k("yield_strength_pa"), v)?;
+            plausible::check(loc, &k("yield_strength_pa"), v, plausible::STRENGTH_PA)?;
         }
         if let Some(v) = m.ultimate_strength_pa {
-            positive(loc, &k("ultimate_strength_pa"), v)?;
+            plausible::check(loc, &k("ultimate_strength_pa"), v, plausible::STRENGTH_PA)?;
         }
     }
     let mut sections = HashSet::new();
@@ -242,6 +280,10 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
     }
     let mut nodes: HashMap<i64, [f64; 3]> = HashMap::new();
     for (i, n) in f.node.iter().enumerate() {
+        for (j, x) in n.position_m.iter().enumerate() {
+            let key = format!("node[{i}].position_m[{j}]");
+            plausible::check(loc, &key, x.abs(), plausible::COORDINATE_M)?;
+        }
         if nodes.insert(n.id, n.position_m).is_some() {
             return Err(loc.err(
                 &format!("node[{i}].id"),
@@ -304,8 +346,16 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
     for (i, m) in f.mass.iter().enumerate() {
         node_ref(format!("mass[{i}].node"), m.node)?;
         nonneg(loc, &format!("mass[{i}].mass_kg"), m.mass_kg)?;
+        plausible::check(
+            loc,
+            &format!("mass[{i}].mass_kg"),
+            m.mass_kg,
+            plausible::MASS_KG,
+        )?;
         for (j, v) in m.inertia_kg_m2.iter().enumerate() {
             nonneg(loc, &format!("mass[{i}].inertia_kg_m2[{j}]"), *v)?;
+            let key = format!("mass[{i}].inertia_kg_m2[{j}]");
+            plausible::check(loc, &key, *v, plausible::INERTIA_KG_M2)?;
         }
     }
     let mut slaves_seen = HashSet::new();
@@ -346,6 +396,8 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         }
         for (j, v) in s.stiffness.iter().enumerate() {
             nonneg(loc, &format!("spring[{i}].stiffness[{j}]"), *v)?;
+            let key = format!("spring[{i}].stiffness[{j}]");
+            plausible::check(loc, &key, *v, plausible::STIFFNESS)?;
         }
     }
     for (i, p) in f.preload.iter().enumerate() {
@@ -358,6 +410,8 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
             ));
         }
         positive(loc, &format!("preload[{i}].force_n"), p.force_n)?;
+        let key = format!("preload[{i}].force_n");
+        plausible::check(loc, &key, p.force_n, plausible::FORCE_N)?;
         if p.axis_index().is_none() {
             return Err(loc.err(
                 &format!("preload[{i}].axis"),
@@ -366,6 +420,8 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         }
         for (j, v) in p.stiffness.iter().enumerate() {
             nonneg(loc, &format!("preload[{i}].stiffness[{j}]"), *v)?;
+            let key = format!("preload[{i}].stiffness[{j}]");
+            plausible::check(loc, &key, *v, plausible::STIFFNESS)?;
         }
     }
     for (i, s) in f.support.iter().enumerate() {
@@ -449,18 +505,32 @@ fn validate_section(s: &Section, i: usize, loc: &Locator) -> Result<(), SpecErro
     Ok(())
 }
 
+/// Beyond every plausible range of a model quantity; above it a product of two overflows.
+const HUGE: f64 = 1e30;
+
+/// Positive, finite, not subnormal and at most [`HUGE`]: a NaN fails every comparison, so the
+/// test is written to accept, not to refuse.
 fn positive(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
-    if v > 0.0 {
+    if v.is_normal() && v > 0.0 && v <= HUGE {
         Ok(())
     } else {
-        Err(loc.err(key, format!("must be positive, got {v}")))
+        Err(loc.err(
+            key,
+            format!("must be positive, finite, not subnormal and at most {HUGE:e}, got {v}"),
+        ))
     }
 }
 
+/// Zero, or positive as [`positive`].
 fn nonneg(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
-    if v >= 0.0 {
+    if v == 0.0 || (v.is_normal() && v > 0.0 && v <= HUGE) {
         Ok(())
     } else {
-        Err(loc.err(key, format!("must not be negative, got {v}")))
+        Err(loc.err(
+            key,
+            format!(
+                "must not be negative, and finite, not subnormal and at most {HUGE:e}, got {v}"
+            ),
+        ))
     }
 }

@@ -302,20 +302,70 @@ pub mod defaults {
 
 /// Checks signs, ranges and references of `[separation]` against `[stack]`. Every error names
 /// the key.
+/// The most Monte Carlo runs a scene may ask for: each run is a full release simulation.
+pub const MAX_MONTE_CARLO_RUNS: usize = 100_000;
+
+/// Plausible ranges of the release spring and of the run's length: a stiff spring or a long
+/// stroke makes the integrator take steps for minutes, with no result worth having.
+fn check_spring_and_budget(spec: &SeparationSpec, loc: &Locator) -> Result<(), SpecError> {
+    use super::plausible::{SEPARATION_SPRING_N_M, SEPARATION_TIME_S, STROKE_M, check};
+    let sp = &spec.spring;
+    check(
+        loc,
+        "separation.spring.stiffness_n_m",
+        sp.stiffness_n_m,
+        SEPARATION_SPRING_N_M,
+    )?;
+    check(loc, "separation.spring.stroke_m", sp.stroke_m, STROKE_M)?;
+    check(
+        loc,
+        "separation.max_time_s",
+        spec.max_time_s,
+        SEPARATION_TIME_S,
+    )?;
+    if spec.dispersion.runs > MAX_MONTE_CARLO_RUNS {
+        return Err(loc.err(
+            "separation.dispersion.runs",
+            format!(
+                "{} runs is above the limit of {MAX_MONTE_CARLO_RUNS}",
+                spec.dispersion.runs
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A relative spring error above +1000 % describes another spring, not an error of this one;
+/// it also multiplies the stiffness past its plausible range (a hang of the integrator).
+fn check_stiffness_error(loc: &Locator, key: &str, e: f64) -> Result<(), SpecError> {
+    super::plausible::check(loc, key, e.abs(), super::plausible::STIFFNESS_ERROR)
+}
+
 pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Result<(), SpecError> {
     let n = stack.satellites;
+    // Finite, not subnormal and at most 1e30: a NaN fails every comparison, so the tests are
+    // written to accept, not to refuse.
+    let sane = |v: f64| v.is_normal() && v > 0.0 && v <= 1e30;
     let pos = |key: &str, v: f64| -> Result<(), SpecError> {
-        if v > 0.0 {
+        if sane(v) {
             Ok(())
         } else {
-            Err(loc.err(key, format!("must be positive, got {v}")))
+            Err(loc.err(
+                key,
+                format!("must be positive, finite, not subnormal and at most 1e30, got {v}"),
+            ))
         }
     };
     let nonneg = |key: &str, v: f64| -> Result<(), SpecError> {
-        if v >= 0.0 {
+        if v == 0.0 || sane(v) {
             Ok(())
         } else {
-            Err(loc.err(key, format!("must not be negative, got {v}")))
+            Err(loc.err(
+                key,
+                format!(
+                    "must not be negative, and finite, not subnormal and at most 1e30, got {v}"
+                ),
+            ))
         }
     };
     // [stack] quantities the release depends on.
@@ -359,10 +409,11 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
     // Timing and integrator.
     nonneg("separation.unlock_time_s", spec.unlock_time_s)?;
     nonneg("separation.release_interval_s", spec.release_interval_s)?;
-    if !(spec.tolerance > 0.0 && spec.tolerance <= 1e-2) {
+    // Below 1e-12 the step falls to the round-off floor before any progress.
+    if !(spec.tolerance >= 1e-12 && spec.tolerance <= 1e-2) {
         return Err(loc.err(
             "separation.tolerance",
-            format!("must lie in (0, 1e-2], got {}", spec.tolerance),
+            format!("must lie in [1e-12, 1e-2], got {}", spec.tolerance),
         ));
     }
     pos("separation.max_step_s", spec.max_step_s)?;
@@ -390,10 +441,13 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
         return Err(loc.err("separation.bar_elements", "must be at least 2"));
     }
     nonneg("separation.bar_damping_ratio", spec.bar_damping_ratio)?;
+    let key = "separation.bar_damping_ratio";
+    super::plausible::check(loc, key, spec.bar_damping_ratio, super::plausible::BAR_ZETA)?;
     // Springs.
     let sp = &spec.spring;
     pos("separation.spring.stiffness_n_m", sp.stiffness_n_m)?;
     pos("separation.spring.stroke_m", sp.stroke_m)?;
+    check_spring_and_budget(spec, loc)?;
     pos(
         "separation.spring.installed_length_m",
         sp.installed_length_m,
@@ -416,6 +470,8 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
                 format!("must exceed -1, got {e}"),
             ));
         }
+        let key = format!("separation.spring.stiffness_error[{j}]");
+        check_stiffness_error(loc, &key, *e)?;
     }
     let iface = |key: String, k: usize| -> Result<(), SpecError> {
         if (1..=n).contains(&k) {
@@ -429,6 +485,8 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
         if let Some(s) = o.stroke_m {
             for (j, v) in s.iter().enumerate() {
                 pos(&format!("separation.interface[{i}].stroke_m[{j}]"), *v)?;
+                let key = format!("separation.interface[{i}].stroke_m[{j}]");
+                super::plausible::check(loc, &key, *v, super::plausible::STROKE_M)?;
             }
         }
         if let Some(e) = o.stiffness_error {
@@ -439,6 +497,8 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
                         format!("must exceed -1, got {v}"),
                     ));
                 }
+                let key = format!("separation.interface[{i}].stiffness_error[{j}]");
+                check_stiffness_error(loc, &key, *v)?;
             }
         }
         if let Some(f) = o.free_length_m {

@@ -243,6 +243,7 @@ impl StackSpec {
         if self.column_elements == 0 || self.bar_elements_per_satellite == 0 {
             return Err(loc.err(&k("column_elements"), "element counts must be at least 1"));
         }
+        self.check_size(loc)?;
         if self.column_inner_diameter_m >= self.column_outer_diameter_m {
             return Err(loc.err(
                 &k("column_inner_diameter_m"),
@@ -283,6 +284,37 @@ impl StackSpec {
     }
 
     /// Expands the stack into generic-model parts appended to `f` (materials stay as given).
+    /// The expanded model's element count, estimated before expansion: two column halves on
+    /// each of four columns per satellite, and four bars of one segment per level.
+    fn check_size(&self, loc: &Locator) -> Result<(), SpecError> {
+        let limit = super::model::MAX_MODEL_ELEMENTS;
+        let columns = self
+            .satellites
+            .saturating_mul(8)
+            .saturating_mul(self.column_elements);
+        let bars = self
+            .satellites
+            .saturating_add(1)
+            .saturating_mul(4)
+            .saturating_mul(self.bar_elements_per_satellite);
+        let total = columns.saturating_add(bars);
+        if total <= limit {
+            return Ok(());
+        }
+        let key = if columns >= bars {
+            "stack.column_elements"
+        } else {
+            "stack.bar_elements_per_satellite"
+        };
+        Err(loc.err(
+            key,
+            format!(
+                "the stack of {} satellites would expand to about {total} beam elements ({columns} in the columns, {bars} in the guide bars), above the limit of {limit}",
+                self.satellites
+            ),
+        ))
+    }
+
     pub fn expand_into(&self, f: &mut super::SceneFile) {
         let n = self.satellites;
         let xy = self.column_xy();
