@@ -11,9 +11,7 @@ use satqual::pipeline::workflows::{
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
 use satqual::signal::ingest::{IngestOptions, LogInfo, TimeUnit, Unit};
-use satqual::signal::{
-    Detrend, PsdSource, ToleranceSpec, WelchOptions, Window, octave_bands, read_profile,
-};
+use satqual::signal::{Detrend, PsdSource, ToleranceSpec, WelchOptions, Window, read_profile};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -303,17 +301,15 @@ fn write_outputs(dir: &std::path::Path, res: &satqual::signal::LogPsd) -> Result
     }
     write_atomic(&dir.join("psd.csv"), csv.as_bytes())?;
     let mut bands = String::from("channel,center_hz,lower_hz,upper_hz,rms\n");
-    for c in &res.channels {
-        for b in octave_bands(&f, &c.psd.values, 3) {
-            bands.push_str(&format!(
-                "{},{:.6},{:.6},{:.6},{}\n",
-                c.name,
-                b.center_hz,
-                b.lower_hz,
-                b.upper_hz,
-                csv_number(b.rms)
-            ));
-        }
+    for (channel, b) in satqual::pipeline::workflows::psd::third_octave_bands(res) {
+        bands.push_str(&format!(
+            "{},{:.6},{:.6},{:.6},{}\n",
+            channel,
+            b.center_hz,
+            b.lower_hz,
+            b.upper_hz,
+            csv_number(b.rms)
+        ));
     }
     write_atomic(&dir.join("third_octave.csv"), bands.as_bytes())?;
     let pts: Vec<Vec<(f64, f64)>> = res

@@ -16,8 +16,9 @@ pub const MAX_PIVOT_RATIO: f64 = 1e7;
 /// (1/(1000·ε) ≈ 4.5e12): the zero test can then no longer tell a flexible mode from a
 /// rigid-body one.
 pub const LOST_PIVOT_RATIO: f64 = 1.0 / (ZERO_EIGENVALUE_ULPS * f64::EPSILON);
-/// A λ within this many round-off units ε·|φ|ᵀ|K||φ| of zero is a zero eigenvalue: the
-/// factorization of K − σM perturbs K by about ε·|K|, so a rigid-body mode's λ comes out at
+/// A λ within this many round-off units ε·(|φ|ᵀ|K||φ| + |σ|) of zero is a zero eigenvalue:
+/// the factorization of K − σM perturbs K by about ε·|K|, and λ = σ + 1/θ adds the rounding
+/// of the shift (φ is mass-normalised, so |σ|·φᵀMφ = |σ|); a rigid-body mode's λ comes out at
 /// that size with either sign.
 const ZERO_EIGENVALUE_ULPS: f64 = 1e3;
 
@@ -44,8 +45,15 @@ pub struct PairCheck {
     pub zero: bool,
 }
 
-/// The backward error of (λ, φ) and whether λ is a round-off zero.
-pub fn check_pair(k: &Triplets, m: &Triplets, lambda: f64, phi: &[f64]) -> PairCheck {
+/// The backward error of (λ, φ) and whether λ is a round-off zero, for a λ computed with the
+/// shift σ (`shift_abs` = |σ|; 0 for a λ computed without one).
+pub fn check_pair(
+    k: &Triplets,
+    m: &Triplets,
+    lambda: f64,
+    phi: &[f64],
+    shift_abs: f64,
+) -> PairCheck {
     let n = phi.len();
     let (kphi, kabs) = products(k, phi, n);
     let (mphi, mabs) = products(m, phi, n);
@@ -58,7 +66,7 @@ pub fn check_pair(k: &Triplets, m: &Triplets, lambda: f64, phi: &[f64]) -> PairC
     let energy_floor: f64 = phi.iter().zip(&kabs).map(|(p, a)| p.abs() * a).sum();
     PairCheck {
         backward_error: if scale > 0.0 { r / scale } else { 0.0 },
-        zero: lambda.abs() <= ZERO_EIGENVALUE_ULPS * f64::EPSILON * energy_floor,
+        zero: lambda.abs() <= ZERO_EIGENVALUE_ULPS * f64::EPSILON * (energy_floor + shift_abs),
     }
 }
 
@@ -123,12 +131,12 @@ mod tests {
     fn exact_pairs_have_no_residual_and_a_zero_is_recognised() {
         let k: Triplets = vec![(0, 0, 2.0)];
         let m: Triplets = vec![(0, 0, 1.0), (1, 1, 1.0)];
-        let c = check_pair(&k, &m, 2.0, &[1.0, 0.0]);
+        let c = check_pair(&k, &m, 2.0, &[1.0, 0.0], 0.0);
         assert_eq!(c.backward_error, 0.0);
         assert!(!c.zero);
-        let z = check_pair(&k, &m, 0.0, &[0.0, 1.0]);
+        let z = check_pair(&k, &m, 0.0, &[0.0, 1.0], 0.0);
         assert!(z.zero);
-        let off = check_pair(&k, &m, 1.0, &[1.0, 0.0]);
+        let off = check_pair(&k, &m, 1.0, &[1.0, 0.0], 0.0);
         assert!((off.backward_error - 1.0 / 3.0).abs() < 1e-15);
     }
 

@@ -421,7 +421,7 @@ fn dense_modes(
         .as_ref()
         .and_then(|p| p.buckling_factor)
         .is_some_and(|f| f < 1.0);
-    let (rigid, worst) = check_dense_pairs(model, (k, m), &mut shapes, unstable)?;
+    let (rigid, worst) = check_dense_pairs(model, (k, m), &mut shapes, (g.shift.abs(), unstable))?;
     let max_backward_error = worst.0;
     let mut result = modal_result(
         model,
@@ -484,12 +484,12 @@ fn check_dense_pairs(
     model: &FeModel,
     (k, m): (&Triplets, &Triplets),
     shapes: &mut [(f64, Vec<f64>)],
-    unstable: bool,
+    (shift_abs, unstable): (f64, bool),
 ) -> Result<(usize, (f64, usize)), crate::Error> {
     let mut rigid = 0;
     let mut worst = (0.0f64, 0);
     for (i, (lambda, phi)) in shapes.iter_mut().enumerate() {
-        let c = checks::check_pair(k, m, *lambda, phi);
+        let c = checks::check_pair(k, m, *lambda, phi, shift_abs);
         if c.backward_error > worst.0 {
             worst = (c.backward_error, i);
         }

@@ -4,8 +4,8 @@
 //! spectra already computed by a controller (function type 9, PSD), taken as they are.
 
 use super::bands::rms_of;
-use super::ingest::{IngestOptions, LogInfo, Unit, stream_csv};
-use super::uff::{looks_like_uff, read_uff58};
+use super::ingest::{IngestOptions, LogInfo, stream_csv};
+use super::uff::{looks_like_uff, ordinate_unit, read_uff58};
 use super::welch::{Psd, WelchOptions, WelchStream, welch};
 use crate::error::SignalError;
 use rayon::prelude::*;
@@ -142,20 +142,6 @@ pub fn psd_of_file(
     })
 }
 
-fn uff_unit(label: &str, ingest: &IngestOptions, name: &str) -> Unit {
-    if let Some((_, u)) = ingest.channel_units.iter().find(|(n, _)| n == name) {
-        return *u;
-    }
-    let l = label.to_ascii_lowercase();
-    if l.starts_with("m/s") {
-        Unit::MPerS2
-    } else if l.starts_with('g') {
-        Unit::G
-    } else {
-        ingest.default_unit.unwrap_or(Unit::AsIs)
-    }
-}
-
 fn psd_of_uff(
     path: &Path,
     ingest: &IngestOptions,
@@ -215,7 +201,7 @@ fn psd_of_uff(
                 line: r.line,
                 message: "the abscissa is not evenly spaced".into(),
             })?;
-            let unit = uff_unit(&r.ordinate_label, ingest, name);
+            let unit = ordinate_unit(&r.ordinate_label, ingest, name);
             let k = unit.to_report_factor();
             if all_psd {
                 // A PSD scales with the square of the amplitude unit.

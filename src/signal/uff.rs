@@ -326,3 +326,24 @@ pub fn looks_like_uff(path: &Path) -> bool {
         .find(|l| !l.trim().is_empty())
         .is_some_and(|l| l.trim() == "-1")
 }
+
+/// The unit of a record's channel: a `--units` entry for the channel wins, then the record's
+/// units field (m/s² or g), then the default unit of the read.
+pub(crate) fn ordinate_unit(
+    label: &str,
+    ingest: &crate::signal::ingest::IngestOptions,
+    name: &str,
+) -> crate::signal::ingest::Unit {
+    use crate::signal::ingest::Unit;
+    if let Some((_, u)) = ingest.channel_units.iter().find(|(n, _)| n == name) {
+        return *u;
+    }
+    let l = label.to_ascii_lowercase();
+    if l.starts_with("m/s") {
+        Unit::MPerS2
+    } else if l.starts_with('g') {
+        Unit::G
+    } else {
+        ingest.default_unit.unwrap_or(Unit::AsIs)
+    }
+}

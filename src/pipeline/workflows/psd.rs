@@ -103,3 +103,18 @@ fn checked_channel<'a>(psd: &'a LogPsd, name: Option<&str>) -> Result<&'a Channe
         ))
     })
 }
+
+/// The third-octave band levels (IEC 61260-1 base-10 bands) of every channel of a PSD run,
+/// channel by channel in the run's order: what `psd --out` writes to `third_octave.csv`.
+pub fn third_octave_bands(res: &crate::signal::LogPsd) -> Vec<(String, crate::signal::Band)> {
+    res.channels
+        .iter()
+        .flat_map(|c| {
+            let f = c.psd.frequencies();
+            crate::signal::octave_bands(&f, &c.psd.values, 3)
+                .into_iter()
+                .map(|b| (c.name.clone(), b))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}

@@ -145,7 +145,7 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
             .uniform_step()
             .ok_or_else(|| uff_err("the abscissa is not evenly spaced".into()))?;
         fs = Some(1.0 / step);
-        let unit = uff_unit(&r.ordinate_label, ingest, &name);
+        let unit = crate::signal::uff::ordinate_unit(&r.ordinate_label, ingest, &name);
         let k = unit.to_report_factor();
         out.push((name, unit, r.re.iter().map(|v| v * k).collect()));
     }
@@ -177,19 +177,5 @@ fn check_uff_selection(
                 .join(", "),
         }),
         None => Ok(()),
-    }
-}
-
-fn uff_unit(label: &str, ingest: &IngestOptions, name: &str) -> Unit {
-    if let Some((_, u)) = ingest.channel_units.iter().find(|(n, _)| n == name) {
-        return *u;
-    }
-    let l = label.to_ascii_lowercase();
-    if l.starts_with("m/s") {
-        Unit::MPerS2
-    } else if l.starts_with('g') {
-        Unit::G
-    } else {
-        ingest.default_unit.unwrap_or(Unit::AsIs)
     }
 }
