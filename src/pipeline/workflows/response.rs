@@ -20,6 +20,7 @@ pub struct ResponseRun<A> {
 /// `[sine]` on the planned axes, with the scene's modes.
 pub fn sine(scene: &Scene, plan: &AxesPlan<SineSpec>) -> Result<ResponseRun<SineAxis>, Error> {
     let (model, sys) = super::modal::run(scene, &default_modal(scene))?;
+    refuse_unsupported(scene, &sys)?;
     let prep = Prepared::new(scene, &model, &sys)?;
     Ok(ResponseRun {
         axes: sine_axes(&prep, plan)?,
@@ -33,6 +34,7 @@ pub fn random(
     plan: &AxesPlan<RandomSpec>,
 ) -> Result<ResponseRun<RandomAxis>, Error> {
     let (model, sys) = super::modal::run(scene, &default_modal(scene))?;
+    refuse_unsupported(scene, &sys)?;
     let prep = Prepared::new(scene, &model, &sys)?;
     Ok(ResponseRun {
         axes: random_axes(&prep, plan)?,
@@ -48,11 +50,32 @@ pub fn scene_response(
     sine: Option<&AxesPlan<SineSpec>>,
     random: Option<&AxesPlan<RandomSpec>>,
 ) -> Result<SceneResponse, Error> {
+    refuse_unsupported(scene, sys)?;
     let prep = Prepared::new(scene, model, sys)?;
     Ok(SceneResponse {
         sine: sine.map_or(Ok(Vec::new()), |p| sine_axes(&prep, p))?,
         random: random.map_or(Ok(Vec::new()), |p| random_axes(&prep, p))?,
     })
+}
+
+/// A base-driven response needs the structure held by its supports in every direction: a
+/// rigid-body mode (0 Hz) would move without bound, so it is refused at the scene's supports.
+fn refuse_unsupported(scene: &Scene, sys: &ModalSystem) -> Result<(), Error> {
+    let r = &sys.result;
+    if r.rigid_body_modes == 0 {
+        return Ok(());
+    }
+    let key = if scene.file.support.is_empty() {
+        "support"
+    } else {
+        "support[0]"
+    };
+    let msg = format!(
+        "the model has {} rigid-body mode(s) (0 Hz; {}): a base-driven sine or random response needs the structure held by its supports in every direction; add supports or springs to ground",
+        r.rigid_body_modes,
+        r.rigid_body_directions.join(", ")
+    );
+    Err(scene.locator().err(key, msg).into())
 }
 
 fn default_modal(scene: &Scene) -> ModalOptions {
