@@ -5,7 +5,9 @@
 //! - the exit code is 0, 1 or 2 (no panic, no abort, no kill by the allocator);
 //! - on 2, one `satqual: error:` message that says where (file, line, key or channel);
 //! - on 0 or 1, no NaN or infinity in stdout or stderr;
-//! - each case ends within 20 s.
+//! - each case ends: in long mode within 20 s (the contract's per-case budget); in the normal
+//!   test run a watchdog only catches hangs (300 s, a thousand times a case's usual cost), so
+//!   the suite never asserts on speed on a loaded machine.
 //!
 //! The normal test run fuzzes a fixed number of cases (`DEFAULT_CASES`); `SATQUAL_FUZZ_SECS=N` runs
 //! N seconds instead (long mode) and `SATQUAL_FUZZ_SEED` picks the seed. The mutants come from a
@@ -20,8 +22,19 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// The per-case wall-time budget of the contract.
+/// The per-case wall-time budget of the contract, checked in long mode.
 const CASE_LIMIT: Duration = Duration::from_secs(20);
+/// The normal run's hang watchdog: a case runs in 0.05–0.5 s, so only a hang reaches it.
+const HANG_LIMIT: Duration = Duration::from_secs(300);
+
+/// How long a case may run before it is killed and reported.
+fn case_limit() -> Duration {
+    if fuzz_seconds().is_some() {
+        CASE_LIMIT
+    } else {
+        HANG_LIMIT
+    }
+}
 /// Seconds of mutation fuzzing in the normal test run.
 /// Cases of the normal test run: a fixed count, so the run checks the same mutants on any
 /// machine at any load (a time budget made the cases covered depend on the machine's speed).
@@ -190,10 +203,11 @@ fn run_case(args: &[String], input: &Path) -> Result<(), String> {
         if let Some(s) = child.try_wait().map_err(|e| e.to_string())? {
             break s;
         }
-        if t0.elapsed() > CASE_LIMIT {
+        let limit = case_limit();
+        if t0.elapsed() > limit {
             let _ = child.kill();
             let _ = child.wait();
-            return Err(format!("no end within {} s", CASE_LIMIT.as_secs()));
+            return Err(format!("no end within {} s", limit.as_secs()));
         }
         std::thread::sleep(Duration::from_millis(10));
     };

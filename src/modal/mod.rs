@@ -421,7 +421,7 @@ fn dense_modes(
         .as_ref()
         .and_then(|p| p.buckling_factor)
         .is_some_and(|f| f < 1.0);
-    let (rigid, worst) = check_dense_pairs(model, (k, m), &mut shapes, (g.shift.abs(), unstable))?;
+    let (rigid, worst) = check_dense_pairs(model, (k, m), &mut shapes, g.shift.abs(), unstable)?;
     let max_backward_error = worst.0;
     let mut result = modal_result(
         model,
@@ -484,7 +484,8 @@ fn check_dense_pairs(
     model: &FeModel,
     (k, m): (&Triplets, &Triplets),
     shapes: &mut [(f64, Vec<f64>)],
-    (shift_abs, unstable): (f64, bool),
+    shift_abs: f64,
+    unstable: bool,
 ) -> Result<(usize, (f64, usize)), crate::Error> {
     let mut rigid = 0;
     let mut worst = (0.0f64, 0);
