@@ -3,7 +3,7 @@
 //! against a shock specification; `--out DIR` writes the spectra as CSV and a log-log SVG plot.
 //! The analysis is `satqual::signal::srs_of_file`; this file parses, prints and writes.
 
-use super::psd::parse_units;
+use super::psd::{DialectArgs, parse_units};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::report::plot::{Series, loglog_svg};
@@ -27,6 +27,8 @@ pub struct Args {
     /// `g`, `m/s2` for every channel whose name states no unit, or a list `ch=unit,...`.
     #[arg(long)]
     pub units: Option<String>,
+    #[command(flatten)]
+    pub dialect: DialectArgs,
     /// Quality factor of the oscillators (damping ratio 1/(2Q)).
     #[arg(long, default_value_t = 10.0)]
     pub q: f64,
@@ -68,6 +70,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ..Default::default()
     };
     parse_units(args.units.as_deref(), &mut ingest)?;
+    args.dialect.apply(&mut ingest)?;
     let opts = SrsOptions {
         q: args.q,
         fmin_hz: args.fmin,
