@@ -5,9 +5,10 @@
 use crate::gates::Verdict;
 use crate::modal::ModalResult;
 use crate::response::SceneResponse;
-use crate::separation::{MonteCarloResult, SeparationResult};
+use crate::separation::{MonteCarloResult, Percentiles, SeparationResult};
 use crate::signal::{Resonance, SignatureReport, ToleranceReport};
 use crate::spec::LogKind;
+use crate::spec::sweep::SweepSpec;
 use serde::Serialize;
 
 /// An analysis the scene did not ask for, and why it was not run.
@@ -113,4 +114,40 @@ pub struct TestDataSummary {
     pub logs: Vec<TestLogResult>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub signature: Option<SignatureReport>,
+}
+
+/// One point of a parameter sweep: the swept values, the Monte Carlo percentiles over every
+/// satellite and run, and the Monte Carlo gates at that point.
+#[derive(Debug, Clone, Serialize)]
+pub struct SweepPoint {
+    pub point: usize,
+    /// The swept keys' values, in the order of [`SweepTable::keys`].
+    pub values: Vec<f64>,
+    pub runs: usize,
+    pub final_speed_m_s: Percentiles,
+    pub tip_off_rate_deg_s: Percentiles,
+    /// Absent with a single satellite (no pair to keep apart).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_clearance_m: Option<Percentiles>,
+    /// Integrator steps over the point's runs.
+    pub steps: usize,
+    pub gates: Vec<Verdict>,
+    /// Every gate of the point passes.
+    pub pass: bool,
+}
+
+/// A parameter sweep: its definition and one row per point. Its serde output is `sweep.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SweepTable {
+    pub scene: String,
+    /// FNV-1a 64-bit hash of the scene text, hex.
+    pub scene_hash: String,
+    pub satqual_version: String,
+    /// The `[sweep]` section as read.
+    pub sweep: SweepSpec,
+    pub keys: Vec<String>,
+    /// Monte Carlo runs per point and their seed (the same at every point).
+    pub runs: usize,
+    pub seed: u64,
+    pub points: Vec<SweepPoint>,
 }

@@ -16,6 +16,7 @@ mod psd;
 mod qualify;
 mod random;
 mod separate;
+mod separate_sweep;
 mod signature;
 mod sine;
 mod srs;

@@ -31,16 +31,22 @@ pub struct Args {
     /// Write CSV histories of the nominal run to this folder; with a shard, the part file.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Compute only shard I of K (0-based) of the Monte Carlo and write it to `--out`.
-    #[arg(long, value_name = "I/K", requires_all = ["monte_carlo", "out"])]
+    /// Compute only shard I of K (0-based) of the Monte Carlo (or of the sweep's units) and
+    /// write it to `--out`.
+    #[arg(long, value_name = "I/K", requires = "out")]
     pub shard: Option<String>,
     /// Shard count K when the index comes from the environment (SATQUAL_SHARD_INDEX,
     /// SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX or JOB_COMPLETION_INDEX, the first set).
-    #[arg(long, value_name = "K", conflicts_with = "shard", requires_all = ["monte_carlo", "out"])]
+    #[arg(long, value_name = "K", conflicts_with = "shard", requires = "out")]
     pub shards: Option<usize>,
     /// Read the shard index from this environment variable instead.
     #[arg(long, value_name = "VAR", requires = "shards")]
     pub shard_env: Option<String>,
+    /// Run the scene's [sweep]: a Monte Carlo per point (runs and seed from --monte-carlo and
+    /// --seed, else [separation.dispersion]); `--out` is the report folder (default
+    /// reports/<scene>/sweep), or the part file with a shard.
+    #[arg(long)]
+    pub sweep: bool,
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
@@ -64,7 +70,15 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         args.shard_env.as_deref(),
         |n| std::env::var(n).ok(),
     )?;
-    if let (Some(shard), Some(runs), Some(out)) = (shard, args.monte_carlo, &args.out) {
+    if args.sweep {
+        return super::separate_sweep::run(&args, &p, &scene, shard);
+    }
+    if let Some(shard) = shard {
+        let (Some(runs), Some(out)) = (args.monte_carlo, &args.out) else {
+            return Err(Error::Other(
+                "a shard needs --monte-carlo N --seed S and --out PART (or --sweep)".into(),
+            ));
+        };
         return run_shard(&p, &scene, shard, runs, args.seed.unwrap_or(0), out);
     }
     let req = SeparateRequest {
@@ -105,6 +119,7 @@ fn run_shard(
         runs,
         shards: shard.count,
         satellites: model.n_satellites(),
+        sweep: None,
     };
     let part = Part::new(campaign, shard, &results);
     let text = serde_json::to_string(&part).map_err(|e| Error::Other(e.to_string()))?;

@@ -4,9 +4,11 @@
 //! - [`plan`]: a scene resolved once into typed, defaulted inputs per analysis;
 //! - [`workflows`]: one workflow per analysis, shared by the command line and `qualify`;
 //! - [`qualify()`]: runs the planned analyses once each, gates them, and fills
-//!   [`crate::results::Qualification`].
+//!   [`crate::results::Qualification`];
+//! - [`param_sweep`]: a `[sweep]`'s points, each with its gated Monte Carlo.
 
 mod comparison;
+pub mod param_sweep;
 pub mod plan;
 mod provenance;
 mod qualify;

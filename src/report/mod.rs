@@ -9,6 +9,7 @@ pub mod qualify;
 pub mod render_html;
 pub mod render_md;
 pub mod svg_plot;
+pub mod sweep;
 
 /// The results of a qualification, which the report presents. Imported here only, and used
 /// through this re-export everywhere in `report`, so the results can move without the report
@@ -18,7 +19,7 @@ pub(crate) use crate::results::{
 };
 
 use crate::error::Error;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same folder, then a rename.
 /// Parent folders are created.
@@ -49,4 +50,48 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
         let _ = std::fs::remove_file(&tmp);
         Error::io(path, e)
     })
+}
+
+/// Writes a report folder: every file (path relative to `dir`, content) into a temporary
+/// sibling folder first, then swapped in. An existing report is replaced only once the new one is complete; on failure nothing
+/// half-written is left behind.
+pub fn write_folder(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, Error> {
+    let parent = dir
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "report".into());
+    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
+    let cleanup = |p: &Path| {
+        let _ = std::fs::remove_dir_all(p);
+    };
+    cleanup(&tmp);
+    let mut written = Vec::new();
+    for (rel, bytes) in files {
+        let p = tmp.join(rel);
+        if let Err(e) = write_atomic(&p, bytes) {
+            cleanup(&tmp);
+            return Err(e);
+        }
+        written.push(dir.join(rel));
+    }
+    let old = parent.join(format!(".{name}.old-{}", std::process::id()));
+    if dir.exists() {
+        std::fs::rename(dir, &old).map_err(|e| {
+            cleanup(&tmp);
+            Error::io(dir, e)
+        })?;
+    }
+    if let Err(e) = std::fs::rename(&tmp, dir) {
+        // Put the previous report back.
+        let _ = std::fs::rename(&old, dir);
+        cleanup(&tmp);
+        return Err(Error::io(dir, e));
+    }
+    cleanup(&old);
+    Ok(written)
 }

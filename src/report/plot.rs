@@ -205,3 +205,109 @@ pub fn loglog_svg(
 ) -> Result<String, Error> {
     lines_svg(title, x_label, y_label, series, Scale::Log, Scale::Log)
 }
+
+/// A horizontal reference line (a gate's limit) with its legend label.
+pub struct Limit {
+    pub y: f64,
+    pub label: String,
+}
+
+/// Outputs of a parameter sweep against one parameter: each series is a line through its
+/// points (filled circles); the points in `failed` get a red cross over them; `limit` is drawn
+/// as a grey line across the plot. Linear axes.
+pub fn sweep_svg(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    failed: &[(f64, f64)],
+    limit: Option<&Limit>,
+) -> Result<String, Error> {
+    let limit_pts: Vec<(f64, f64)> = limit.map(|l| vec![(f64::NAN, l.y)]).unwrap_or_default();
+    let mut all: Vec<Series> = series
+        .iter()
+        .map(|s| Series {
+            label: String::new(),
+            points: s.points,
+        })
+        .collect();
+    all.push(Series {
+        label: String::new(),
+        points: &limit_pts,
+    });
+    let (x0, x1) = range(&all, |p| p.0, Scale::Linear);
+    let (y0, y1) = range(&all, |p| p.1, Scale::Linear);
+    let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .x_desc(x_label)
+            .y_desc(y_label)
+            .y_label_formatter(&|v| format!("{v:.3e}"))
+            .draw()
+            .map_err(plot_err)?;
+        if let Some(l) = limit {
+            let grey = RGBColor(110, 110, 110);
+            chart
+                .draw_series(LineSeries::new(
+                    [(x0, l.y), (x1, l.y)],
+                    grey.stroke_width(2),
+                ))
+                .map_err(plot_err)?
+                .label(l.label.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], grey.stroke_width(2))
+                });
+        }
+        for (i, s) in series.iter().enumerate() {
+            let c = COLORS[i % COLORS.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    s.points.iter().filter(finite).copied(),
+                    c.stroke_width(1),
+                ))
+                .map_err(plot_err)?;
+            chart
+                .draw_series(
+                    s.points
+                        .iter()
+                        .filter(finite)
+                        .map(|p| Circle::new(*p, 4, c.filled())),
+                )
+                .map_err(plot_err)?
+                .label(s.label.clone())
+                .legend(move |(x, y)| Circle::new((x + 9, y), 4, c.filled()));
+        }
+        if !failed.is_empty() {
+            chart
+                .draw_series(
+                    failed
+                        .iter()
+                        .filter(finite)
+                        .map(|p| Cross::new(*p, 7, RED.stroke_width(3))),
+                )
+                .map_err(plot_err)?
+                .label("fails a gate")
+                .legend(|(x, y)| Cross::new((x + 9, y), 5, RED.stroke_width(3)));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(plot_err)?;
+        root.present().map_err(plot_err)?;
+    }
+    Ok(svg)
+}

@@ -30,47 +30,7 @@ pub fn render(q: &Qualification) -> Result<Files, Error> {
     Ok(files)
 }
 
-/// Writes the report folder: everything into a temporary sibling folder first, then swapped
-/// in. An existing report is replaced only once the new one is complete; on failure nothing
-/// half-written is left behind.
+/// Writes the report folder of a qualification (see [`super::write_folder`]).
 pub fn write(dir: &Path, q: &Qualification) -> Result<Vec<PathBuf>, Error> {
-    let files = render(q)?;
-    let parent = dir
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
-    let name = dir
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "report".into());
-    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
-    let cleanup = |p: &Path| {
-        let _ = std::fs::remove_dir_all(p);
-    };
-    cleanup(&tmp);
-    let mut written = Vec::new();
-    for (rel, bytes) in &files {
-        let p = tmp.join(rel);
-        if let Err(e) = super::write_atomic(&p, bytes) {
-            cleanup(&tmp);
-            return Err(e);
-        }
-        written.push(dir.join(rel));
-    }
-    let old = parent.join(format!(".{name}.old-{}", std::process::id()));
-    if dir.exists() {
-        std::fs::rename(dir, &old).map_err(|e| {
-            cleanup(&tmp);
-            Error::io(dir, e)
-        })?;
-    }
-    if let Err(e) = std::fs::rename(&tmp, dir) {
-        // Put the previous report back.
-        let _ = std::fs::rename(&old, dir);
-        cleanup(&tmp);
-        return Err(Error::io(dir, e));
-    }
-    cleanup(&old);
-    Ok(written)
+    super::write_folder(dir, &render(q)?)
 }

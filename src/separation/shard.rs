@@ -14,6 +14,8 @@ use std::path::{Path, PathBuf};
 
 /// The `format` field of a part file.
 pub const PART_FORMAT: &str = "satqual-separate-part/1";
+/// The `format` field of a part file of a parameter sweep.
+pub const SWEEP_PART_FORMAT: &str = "satqual-sweep-part/1";
 
 /// Environment variables that carry an array job's index, tried in this order when no
 /// `--shard` is given: satqual's own, then Slurm, PBS Pro and Kubernetes indexed jobs.
@@ -108,6 +110,42 @@ pub struct Campaign {
     pub runs: usize,
     pub shards: usize,
     pub satellites: usize,
+    /// Present for a parameter sweep, whose work units are points × runs (unit `u` is run
+    /// `u mod runs` of point `⌊u / runs⌋`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<SweepTag>,
+}
+
+/// What identifies a sweep besides the scene hash: its number of points and its definition.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SweepTag {
+    pub points: usize,
+    /// The `[sweep]` section as read, re-written as TOML.
+    pub definition: String,
+}
+
+impl Campaign {
+    /// The number of work units shards split: runs, or points × runs for a sweep.
+    pub fn units(&self) -> usize {
+        self.runs * self.sweep.as_ref().map_or(1, |s| s.points)
+    }
+
+    /// How the units are named in messages.
+    pub fn unit_name(&self) -> &'static str {
+        if self.sweep.is_some() {
+            "units"
+        } else {
+            "runs"
+        }
+    }
+
+    fn format(&self) -> &'static str {
+        if self.sweep.is_some() {
+            SWEEP_PART_FORMAT
+        } else {
+            PART_FORMAT
+        }
+    }
 }
 
 /// A part file: shard `shard` of the campaign, runs `first..end`.
@@ -124,10 +162,10 @@ pub struct Part {
 
 impl Part {
     pub fn new(campaign: Campaign, shard: Shard, results: &[Realization]) -> Part {
-        let r = shard.range(campaign.runs);
+        let r = shard.range(campaign.units());
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect();
         Part {
-            format: PART_FORMAT.into(),
+            format: campaign.format().into(),
             campaign,
             shard: shard.index,
             first: r.start,
@@ -161,18 +199,24 @@ impl Part {
     fn check(&self, path: &Path) -> Result<(), Error> {
         let p = path.display();
         let c = &self.campaign;
-        if self.format != PART_FORMAT {
+        if self.format != c.format() {
             return Err(Error::Other(format!(
-                "{p}: format `{}`, expected `{PART_FORMAT}`",
-                self.format
+                "{p}: format `{}`, expected `{}` (`{SWEEP_PART_FORMAT}` with a `sweep` field)",
+                self.format,
+                if self.format == SWEEP_PART_FORMAT {
+                    SWEEP_PART_FORMAT
+                } else {
+                    PART_FORMAT
+                }
             )));
         }
         let shard =
             Shard::new(self.shard, c.shards).map_err(|e| Error::Other(format!("{p}: {e}")))?;
-        let want = shard.range(c.runs);
+        let want = shard.range(c.units());
+        let u = c.unit_name();
         if (self.first..self.end) != want {
             return Err(Error::Other(format!(
-                "{p}: shard {}/{} declares runs {}..{}, but that shard holds runs {}..{}",
+                "{p}: shard {}/{} declares {u} {}..{}, but that shard holds {u} {}..{}",
                 self.shard, c.shards, self.first, self.end, want.start, want.end
             )));
         }
@@ -180,8 +224,8 @@ impl Part {
             let expected = self.first + k as u64;
             if r.index != expected {
                 return Err(Error::Other(format!(
-                    "{p}: shard {} (runs {}..{}) record {k} is run {}, expected run {expected}; \
-                     {} of {} runs present",
+                    "{p}: shard {} ({u} {}..{}) record {k} is number {}, expected {expected}; \
+                     {} of {} {u} present",
                     self.shard,
                     self.first,
                     self.end,
@@ -194,7 +238,7 @@ impl Part {
         }
         if self.realizations.len() as u64 != self.end - self.first {
             return Err(Error::Other(format!(
-                "{p}: shard {} holds {} of its runs {}..{}: runs {}..{} are missing (truncated part?)",
+                "{p}: shard {} holds {} of its {u} {}..{}: {u} {}..{} are missing (truncated part?)",
                 self.shard,
                 self.realizations.len(),
                 self.first,
@@ -245,12 +289,14 @@ pub fn merge(parts: &[(PathBuf, Part)]) -> Result<(Campaign, Vec<Realization>), 
     };
     let c = &first.campaign;
     let mut holder: Vec<Option<&Path>> = vec![None; c.shards];
+    let u = c.unit_name();
     for (path, part) in parts {
         if part.campaign != *c {
             return Err(Error::Other(format!(
-                "{}: shard {} (runs {}..{}) belongs to another campaign: {} (the first part, {}, is {})",
+                "{}: shard {} ({} {}..{}) belongs to another campaign: {} (the first part, {}, is {})",
                 path.display(),
                 part.shard,
+                part.campaign.unit_name(),
                 part.first,
                 part.end,
                 describe(&part.campaign),
@@ -260,7 +306,7 @@ pub fn merge(parts: &[(PathBuf, Part)]) -> Result<(Campaign, Vec<Realization>), 
         }
         if let Some(other) = holder[part.shard].replace(path) {
             return Err(Error::Other(format!(
-                "{}: shard {} (runs {}..{}) is duplicated: {} holds it too",
+                "{}: shard {} ({u} {}..{}) is duplicated: {} holds it too",
                 path.display(),
                 part.shard,
                 part.first,
@@ -274,9 +320,9 @@ pub fn merge(parts: &[(PathBuf, Part)]) -> Result<(Campaign, Vec<Realization>), 
             index: i,
             count: c.shards,
         }
-        .range(c.runs);
+        .range(c.units());
         return Err(Error::Other(format!(
-            "shard {i}/{} (runs {}..{}) of {} is missing: none of the {} part files holds it; re-run it with --shard {i}/{}",
+            "shard {i}/{} ({u} {}..{}) of {} is missing: none of the {} part files holds it; re-run it with --shard {i}/{}",
             c.shards,
             r.start,
             r.end,
@@ -295,8 +341,19 @@ pub fn merge(parts: &[(PathBuf, Part)]) -> Result<(Campaign, Vec<Realization>), 
 }
 
 fn describe(c: &Campaign) -> String {
+    let sweep = c.sweep.as_ref().map_or(String::new(), |s| {
+        format!(
+            ", a sweep of {} points ({})",
+            s.points,
+            s.definition
+                .lines()
+                .filter(|l| !l.trim().is_empty())
+                .collect::<Vec<_>>()
+                .join("; ")
+        )
+    });
     format!(
-        "scene {} hash {}, seed {}, {} runs in {} shards, {} satellites",
+        "scene {} hash {}, seed {}, {} runs in {} shards, {} satellites{sweep}",
         c.scene, c.scene_hash, c.seed, c.runs, c.shards, c.satellites
     )
 }

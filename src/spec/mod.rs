@@ -15,6 +15,7 @@ pub mod plausible;
 pub mod qualify;
 pub mod separation;
 pub mod stack;
+pub mod sweep;
 
 pub use model::*;
 pub use qualify::{GatesSpec, LogKind, TestLogSpec};
@@ -84,6 +85,10 @@ pub struct SceneFile {
     /// `analysis::MarginsSpec`, so that no factor of safety is written down twice.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub margins: Option<analysis::MarginsSpec>,
+    /// A parameter study of the release (`satqual separate SCENE --sweep`); other commands
+    /// read the scene as written, without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<sweep::SweepSpec>,
 }
 
 /// A loaded and validated scene, with its source kept for error locations and provenance.
@@ -109,7 +114,7 @@ impl Scene {
         let loc = Locator::new(path, text)?;
         loc.check_finite()?;
         let file: SceneFile = toml::from_str(text).map_err(|e| loc.toml_error(&e))?;
-        let model = match &file.stack {
+        let mut model = match &file.stack {
             Some(stack) => {
                 stack.validate(&file.material, &loc)?;
                 let mut m = file.clone();
@@ -119,6 +124,8 @@ impl Scene {
             }
             None => file.clone(),
         };
+        // The generic model is one point of the design space; `[sweep]` stays with the file.
+        model.sweep = None;
         model::validate(&model, &loc)?;
         qualify::validate(
             &file.gates.clone().unwrap_or_default(),
@@ -126,6 +133,9 @@ impl Scene {
             &loc,
         )?;
         analysis::validate(&file, &model, &loc)?;
+        if let Some(s) = &file.sweep {
+            sweep::validate(s, &loc)?;
+        }
         Ok(Scene {
             path: path.to_path_buf(),
             text: text.to_string(),
@@ -379,7 +389,7 @@ impl Locator {
 }
 
 /// Splits `a.b[2].c` into `[("a", None), ("b", Some(2)), ("c", None)]`.
-fn split_path(key: &str) -> Vec<(String, Option<usize>)> {
+pub(crate) fn split_path(key: &str) -> Vec<(String, Option<usize>)> {
     key.split('.')
         .filter(|s| !s.is_empty())
         .map(|part| match part.find('[') {
