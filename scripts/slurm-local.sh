@@ -3,7 +3,9 @@
 # distribution's packages when missing (Debian/Ubuntu, as root), runs a one-node cluster on
 # localhost from a private configuration (nothing under /etc/slurm is written), submits a
 # K-shard campaign and its merge job for each K in SHARD_COUNTS, waits, and compares the merged
-# result with the single-machine run byte for byte. Prints the wall time per K.
+# result with the single-machine run byte for byte. Prints the wall time per K. With SWEEP=1 the
+# scene's [sweep] runs instead (separate --sweep), and the merged report folder is compared with
+# the single-machine one file by file (diff -r).
 #
 # Usage: scripts/slurm-local.sh [SCENE] [RUNS] [SEED]
 #   defaults: test-specs/paper-stack.toml 59 1; SHARD_COUNTS="1 2 4"; SATQUAL=path/to/satqual
@@ -80,8 +82,15 @@ sinfo
 
 out=$work/results
 mkdir -p "$out"
+sweep=()
+[ "${SWEEP:-0}" = 1 ] && sweep=(--sweep)
 start=$(date +%s.%N)
-"$satqual" separate "$scene" --monte-carlo "$runs" --seed "$seed" --json > "$out/single.json"
+if [ ${#sweep[@]} = 1 ]; then
+    rm -rf "$out/single"
+    "$satqual" separate "$scene" --sweep --monte-carlo "$runs" --seed "$seed" --out "$out/single" >/dev/null
+else
+    "$satqual" separate "$scene" --monte-carlo "$runs" --seed "$seed" --json > "$out/single.json"
+fi
 echo "single machine: $(echo "$(date +%s.%N) - $start" | bc) s"
 
 status=0
@@ -96,7 +105,8 @@ for k in $counts; do
     # Poll finely: sbatch --wait polls at growing intervals and would round the wall time up.
     while [ -n "$(squeue -h -j "${array%%;*},${merge%%;*}" 2>/dev/null)" ]; do sleep 0.2; done
     wall=$(echo "$(date +%s.%N) - $start" | bc)
-    if cmp -s "$dir/result.json" "$out/single.json"; then
+    if { [ ${#sweep[@]} = 1 ] && diff -r "$dir/result" "$out/single" >/dev/null; } ||
+       { [ ${#sweep[@]} = 0 ] && cmp -s "$dir/result.json" "$out/single.json"; }; then
         echo "K = $k: merged result byte-identical, wall $wall s"
     else
         echo "K = $k: MERGED RESULT DIFFERS (wall $wall s); logs in $dir/logs" >&2

@@ -37,6 +37,7 @@ mod separation_montecarlo;
 
 // Sharded Monte Carlo, merge, Slurm scripts.
 mod campaign;
+mod param_sweep;
 
 // Test-log signal processing.
 mod signal_bands;

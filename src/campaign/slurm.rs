@@ -23,6 +23,9 @@ pub struct Plan {
     pub partition: Option<String>,
     pub time: Option<String>,
     pub cpus: usize,
+    /// The scene's `[sweep]`: shards run `separate --sweep` and the merge writes the report
+    /// folder `DIR/result/` instead of `DIR/result.json`.
+    pub sweep: bool,
 }
 
 /// Single-quoted for the shell (a quote inside becomes '\'').
@@ -70,9 +73,10 @@ pub fn shards_script(p: &Plan) -> String {
     );
     let _ = writeln!(
         s,
-        "{} separate {} --monte-carlo {} --seed {} --shards \"$SLURM_ARRAY_TASK_COUNT\" --shard-env SLURM_ARRAY_TASK_ID --out {}/part-\"$SLURM_ARRAY_TASK_ID\".json",
+        "{} separate {}{} --monte-carlo {} --seed {} --shards \"$SLURM_ARRAY_TASK_COUNT\" --shard-env SLURM_ARRAY_TASK_ID --out {}/part-\"$SLURM_ARRAY_TASK_ID\".json",
         q(&p.exe),
         quote(&p.scene),
+        if p.sweep { " --sweep" } else { "" },
         p.runs,
         p.seed,
         q(&p.dir.join("parts"))
@@ -80,7 +84,7 @@ pub fn shards_script(p: &Plan) -> String {
     s
 }
 
-/// The merge job: reads every part, writes `result.json`.
+/// The merge job: reads every part, writes `result.json` (a sweep: the folder `result/`).
 pub fn merge_script(p: &Plan) -> String {
     let mut s = header(p, "satqual-merge", 1, "merge.log");
     s.push_str("set -euo pipefail\n");
@@ -90,7 +94,7 @@ pub fn merge_script(p: &Plan) -> String {
         "{} merge {}/part-*.json --out {}",
         q(&p.exe),
         q(&p.dir.join("parts")),
-        q(&p.dir.join("result.json"))
+        q(&p.dir.join(if p.sweep { "result" } else { "result.json" }))
     );
     s
 }

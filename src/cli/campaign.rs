@@ -1,6 +1,7 @@
-//! `satqual campaign SCENE --slurm --shards K --monte-carlo N --seed S [--partition P]
+//! `satqual campaign SCENE --slurm --shards K [--monte-carlo N --seed S] [--partition P]
 //! [--time T] [--cpus C] [--dir DIR]`: writes the Slurm array script of a sharded Monte Carlo
-//! and its merge job, and prints the two commands that submit them.
+//! (or, for a scene with `[sweep]`, of its sweep) and its merge job, and prints the two
+//! commands that submit them.
 
 use super::{Outcome, Printer};
 use satqual::Error;
@@ -19,12 +20,12 @@ pub struct Args {
     /// Number of shards (array tasks).
     #[arg(long)]
     pub shards: usize,
-    /// Number of Monte Carlo runs.
+    /// Number of Monte Carlo runs (per sweep point); default [separation.dispersion] runs.
     #[arg(long)]
-    pub monte_carlo: usize,
-    /// Seed of the Monte Carlo streams.
+    pub monte_carlo: Option<usize>,
+    /// Seed of the Monte Carlo streams; default [separation.dispersion] seed.
     #[arg(long)]
-    pub seed: u64,
+    pub seed: Option<u64>,
     /// Slurm partition.
     #[arg(long)]
     pub partition: Option<String>,
@@ -57,7 +58,20 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ));
     }
     // Fail here, not on the cluster, when the scene does not load.
-    satqual::spec::Scene::load(&args.scene)?;
+    let scene = satqual::spec::Scene::load(&args.scene)?;
+    let disp = scene
+        .file
+        .separation
+        .as_ref()
+        .map(|s| (s.dispersion.runs, s.dispersion.seed))
+        .unwrap_or_default();
+    let runs = args.monte_carlo.unwrap_or(disp.0);
+    if runs == 0 {
+        return Err(Error::Other(format!(
+            "{}: no Monte Carlo runs: give --monte-carlo N or [separation.dispersion] runs",
+            args.scene.display()
+        )));
+    }
     let cwd = std::env::current_dir().map_err(|e| Error::io(".", e))?;
     let exe = std::env::current_exe().map_err(|e| Error::io("satqual", e))?;
     let dir = cwd.join(&args.dir);
@@ -65,13 +79,14 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         exe,
         workdir: cwd,
         scene: args.scene.display().to_string(),
-        runs: args.monte_carlo,
-        seed: args.seed,
+        runs,
+        seed: args.seed.unwrap_or(disp.1),
         shards: args.shards,
         dir: dir.clone(),
         partition: args.partition,
         time: args.time,
         cpus: args.cpus,
+        sweep: scene.file.sweep.is_some(),
     };
     for sub in ["parts", "logs"] {
         let d = dir.join(sub);

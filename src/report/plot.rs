@@ -237,6 +237,8 @@ pub fn sweep_svg(
     });
     let (x0, x1) = range(&all, |p| p.0, Scale::Linear);
     let (y0, y1) = range(&all, |p| p.1, Scale::Linear);
+    // Room above the points for the legend in the upper right corner.
+    let y1 = y1 + 0.35 * (y1 - y0);
     let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
     let mut svg = String::new();
     {

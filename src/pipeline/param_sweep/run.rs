@@ -96,18 +96,30 @@ pub fn realize_units(job: &SweepJob, range: Range<u64>) -> Result<Vec<Realizatio
     let runs = job.runs as u64;
     let first = (range.start / runs) as usize;
     let last = ((range.end - 1) / runs) as usize;
-    let models = (first..=last)
-        .into_par_iter()
-        .map(|p| job.model(p))
-        .collect::<Result<Vec<_>, _>>()?;
-    range
-        .into_par_iter()
-        .map(|u| {
-            let p = (u / runs) as usize;
-            let r = realize(&models[p - first], job.seed, u % runs).map_err(|e| job.at(p, e))?;
-            Ok(Realization { index: u, ..r })
-        })
-        .collect()
+    let models = in_order(
+        (first..=last)
+            .into_par_iter()
+            .map(|p| job.model(p))
+            .collect(),
+    )?;
+    in_order(
+        range
+            .into_par_iter()
+            .map(|u| {
+                let p = (u / runs) as usize;
+                let r =
+                    realize(&models[p - first], job.seed, u % runs).map_err(|e| job.at(p, e))?;
+                Ok(Realization { index: u, ..r })
+            })
+            .collect(),
+    )
+}
+
+/// The values, or the error of the first failed item in index order: a parallel collect into
+/// a `Result` would return whichever error a thread met first, and the message would depend
+/// on the thread count.
+fn in_order<T>(items: Vec<Result<T, Error>>) -> Result<Vec<T>, Error> {
+    items.into_iter().collect()
 }
 
 /// One row per point from the realizations of every unit, in unit order.
@@ -119,11 +131,13 @@ pub fn table(job: &SweepJob, realizations: &[Realization]) -> Result<SweepTable,
             job.units()
         )));
     }
-    let points = realizations
-        .par_chunks(job.runs)
-        .enumerate()
-        .map(|(p, chunk)| row(job, p, chunk))
-        .collect::<Result<Vec<_>, _>>()?;
+    let points = in_order(
+        realizations
+            .par_chunks(job.runs)
+            .enumerate()
+            .map(|(p, chunk)| row(job, p, chunk))
+            .collect(),
+    )?;
     Ok(SweepTable {
         scene: job.base.path.display().to_string(),
         scene_hash: fnv1a(&job.base.text),
