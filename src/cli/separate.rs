@@ -2,7 +2,7 @@
 //! release of a `[stack]` + `[separation]` scene, and optionally a seeded Monte Carlo.
 //! With `--shard I/K` (or `--shards K` and an array-job index in the environment) it computes
 //! only shard I's realizations and writes them to the part file `--out`; `satqual merge`
-//! joins the parts.
+//! joins the parts. With `--sweep` it runs the scene's `[sweep]` instead (`separate_sweep`).
 
 use super::{Outcome, Printer};
 use satqual::Error;

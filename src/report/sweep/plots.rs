@@ -64,41 +64,58 @@ fn figure(t: &SweepTable, j: usize, key: &str, k: usize, out: &Output) -> Result
     })
 }
 
+/// One plotted line: the points that share the other keys' values (bit patterns).
+struct Line {
+    others: Vec<u64>,
+    label: String,
+    points: Vec<(f64, f64)>,
+}
+
 /// The points as lines: those sharing every other key's value form one line, sorted along
 /// key `j`, in the order the lines first appear. When no two points share them (a Latin
 /// hypercube), one series holds every point.
 fn groups(t: &SweepTable, j: usize, out: &Output) -> Vec<(String, Vec<(f64, f64)>)> {
-    let mut groups: Vec<(Vec<u64>, String, Vec<(f64, f64)>)> = Vec::new();
+    let mut lines: Vec<Line> = Vec::new();
     for p in &t.points {
         let Some(y) = (out.get)(p) else { continue };
         let others: Vec<u64> = (0..p.values.len())
             .filter(|&i| i != j)
             .map(|i| p.values[i].to_bits())
             .collect();
-        let label = (0..p.values.len())
-            .filter(|&i| i != j)
-            .map(|i| format!("{} = {}", short(&t.keys[i]), p.values[i]))
-            .collect::<Vec<_>>()
-            .join(", ");
-        match groups.iter_mut().find(|g| g.0 == others) {
-            Some(g) => g.2.push((p.values[j], y)),
-            None => groups.push((others, label, vec![(p.values[j], y)])),
+        match lines.iter_mut().find(|l| l.others == others) {
+            Some(l) => l.points.push((p.values[j], y)),
+            None => {
+                let label = (0..p.values.len())
+                    .filter(|&i| i != j)
+                    .map(|i| format!("{} = {}", short(&t.keys[i]), p.values[i]))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                lines.push(Line {
+                    others,
+                    label,
+                    points: vec![(p.values[j], y)],
+                });
+            }
         }
     }
-    if groups.len() > 1 && groups.iter().all(|g| g.2.len() == 1) {
-        let all = groups.into_iter().flat_map(|g| g.2).collect();
-        groups = vec![(Vec::new(), "points".into(), all)];
+    if lines.len() > 1 && lines.iter().all(|l| l.points.len() == 1) {
+        let points = lines.into_iter().flat_map(|l| l.points).collect();
+        lines = vec![Line {
+            others: Vec::new(),
+            label: String::new(),
+            points,
+        }];
     }
-    groups
+    lines
         .into_iter()
-        .map(|(_, label, mut pts)| {
-            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let label = if label.is_empty() {
+        .map(|mut l| {
+            l.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let label = if l.label.is_empty() {
                 "points".into()
             } else {
-                label
+                l.label
             };
-            (label, pts)
+            (label, l.points)
         })
         .collect()
 }
