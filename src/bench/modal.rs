@@ -1,7 +1,8 @@
 //! `satqual bench modal`: the sparse modal solver on stacks of 6, 20, 60 and 120 satellites
 //! (every mode below 2 kHz), against `scipy.sparse.linalg.eigsh` in shift-invert mode on the
 //! same exported matrices at the same tolerance, plus the dense/sparse crossover that sets
-//! `modal::AUTO_SPARSE_DOFS`. Writes `modal.json` and `modal.md`.
+//! `modal::AUTO_SPARSE_DOFS`, and the band-edge sweep of `fmax` ([`super::modal_sweep`]).
+//! Writes `modal.json` and `modal.md`.
 //!
 //! The stacks come from `test-specs/paper-stack.toml` with `satellites = N` substituted (and
 //! the guide bars lengthened by one pitch per added satellite, so that they still reach
@@ -93,6 +94,7 @@ struct Report {
     stacks: Vec<StackRow>,
     crossover: Vec<CrossRow>,
     auto_sparse_dofs: usize,
+    fmax_sweep: Vec<super::modal_sweep::SweepRow>,
 }
 
 /// The table as (JSON, Markdown); the matrices for eigsh go to `out/modal-work`.
@@ -121,6 +123,7 @@ pub fn run(out: &Path) -> Result<(String, String), Error> {
         stacks.push(row);
     }
     let crossover = crossover()?;
+    let fmax_sweep = super::modal_sweep::run()?;
     let report = Report {
         model: model_note,
         load_average: [load0, load_average()],
@@ -129,6 +132,7 @@ pub fn run(out: &Path) -> Result<(String, String), Error> {
         stacks,
         crossover,
         auto_sparse_dofs: crate::modal::AUTO_SPARSE_DOFS,
+        fmax_sweep,
     };
     Ok((super::to_json(&report)?, markdown(&report)))
 }
@@ -339,6 +343,7 @@ fn markdown(r: &Report) -> String {
             c.dofs, c.modes, c.dense_s, c.sparse_s
         );
     }
+    s.push_str(&super::modal_sweep::markdown(&r.fmax_sweep));
     s
 }
 
