@@ -15,6 +15,7 @@ mod golden;
 // FE core and modal solvers.
 mod cli_modal;
 mod fem_verification;
+mod modal_band_edges;
 mod modal_sparse;
 mod modal_stability;
 mod scene_errors;

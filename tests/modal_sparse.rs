@@ -163,7 +163,7 @@ fn large_frame_dense_and_sparse_agree_with_sturm_count() {
     // Normwise backward error of every returned pair (sparse module doc: ~tolerance 1e-11).
     assert!(stats.max_backward_error < 1e-10, "{stats:?}");
     let worst = assert_agree(&d, &s, "frame");
-    // Above modal::AUTO_SPARSE_DOFS a bounded request goes sparse by itself.
+    // A band of ~130 modes of ~1900 DOFs: the cost model of Auto picks sparse.
     let auto = solve(&scene, SolverChoice::Auto, Some(fmax), None);
     assert!(auto.solver.starts_with("sparse"), "{}", auto.solver);
     eprintln!(
@@ -450,4 +450,32 @@ fn twenty_satellite_stack_bands_and_cluster_match_eigsh() {
             .collect()
     };
     assert_eq!(bits(&one), bits(&s), "1 thread vs the default pool");
+}
+
+#[test]
+fn auto_solves_only_what_the_scene_asks() {
+    // The cost model of SolverChoice::Auto (modal::auto_prefers_sparse): a few modes of a model
+    // of several hundred DOFs or more go to the sparse solver instead of solving every mode
+    // and truncating; the answer is the dense one's lowest modes (tolerances of assert_agree).
+    let stack = load(catalogue::PAPER_STACK);
+    let five = solve(&stack, SolverChoice::Auto, None, Some(5));
+    assert!(five.solver.starts_with("sparse"), "{}", five.solver);
+    let all = solve(&stack, SolverChoice::Dense, None, None);
+    let first5 = ModalResult {
+        modes: all.modes[..5].to_vec(),
+        ..all.clone()
+    };
+    assert_agree(&first5, &five, "paper stack, --modes 5");
+    // A frame tower of 1476 DOFs asking for 12 modes.
+    let tower = parse(&FrameTower::clamped(4, 3, 6).scene());
+    let twelve = solve(&tower, SolverChoice::Auto, None, Some(12));
+    assert!(twelve.dofs > 1400, "{} DOFs", twelve.dofs);
+    assert!(twelve.solver.starts_with("sparse"), "{}", twelve.solver);
+    // 300 of the stack's 692 modes at 2 kHz: near break-even, the model keeps it dense; a
+    // verification scene (120 DOFs) is dense whatever it asks.
+    let band = solve(&stack, SolverChoice::Auto, Some(2000.0), None);
+    assert!(band.solver.starts_with("dense"), "{}", band.solver);
+    let cantilever = load("test-specs/verification/cantilever.toml");
+    let small = solve(&cantilever, SolverChoice::Auto, None, Some(3));
+    assert!(small.solver.starts_with("dense"), "{}", small.solver);
 }

@@ -9,6 +9,7 @@
 
 mod fem;
 mod modal;
+mod modal_sweep;
 mod psd;
 mod response;
 mod separation;

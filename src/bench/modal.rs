@@ -1,7 +1,8 @@
 //! `satqual bench modal`: the sparse modal solver on stacks of 6, 20, 60 and 120 satellites
 //! (every mode below 2 kHz), against `scipy.sparse.linalg.eigsh` in shift-invert mode on the
 //! same exported matrices at the same tolerance, plus the dense/sparse crossover that sets
-//! `modal::AUTO_SPARSE_DOFS`. Writes `modal.json` and `modal.md`.
+//! the cost model of `SolverChoice::Auto` (`modal::auto_prefers_sparse`), and the band-edge sweep of `fmax` ([`super::modal_sweep`]).
+//! Writes `modal.json` and `modal.md`.
 //!
 //! The stacks come from `test-specs/paper-stack.toml` with `satellites = N` substituted (and
 //! the guide bars lengthened by one pitch per added satellite, so that they still reach
@@ -92,7 +93,9 @@ struct Report {
     tolerance: f64,
     stacks: Vec<StackRow>,
     crossover: Vec<CrossRow>,
-    auto_sparse_dofs: usize,
+    /// The cost model of `SolverChoice::Auto`: dense s per DOF³, sparse s per DOF·mode.
+    auto_cost_model: [f64; 2],
+    fmax_sweep: Vec<super::modal_sweep::SweepRow>,
 }
 
 /// The table as (JSON, Markdown); the matrices for eigsh go to `out/modal-work`.
@@ -121,6 +124,7 @@ pub fn run(out: &Path) -> Result<(String, String), Error> {
         stacks.push(row);
     }
     let crossover = crossover()?;
+    let fmax_sweep = super::modal_sweep::run()?;
     let report = Report {
         model: model_note,
         load_average: [load0, load_average()],
@@ -128,7 +132,11 @@ pub fn run(out: &Path) -> Result<(String, String), Error> {
         tolerance: TOL,
         stacks,
         crossover,
-        auto_sparse_dofs: crate::modal::AUTO_SPARSE_DOFS,
+        auto_cost_model: [
+            crate::modal::DENSE_S_PER_DOF3,
+            crate::modal::SPARSE_S_PER_DOF_MODE,
+        ],
+        fmax_sweep,
     };
     Ok((super::to_json(&report)?, markdown(&report)))
 }
@@ -325,20 +333,30 @@ fn markdown(r: &Report) -> String {
         "\n## Dense or sparse: the crossover\n\nThe dense solver's cost is fixed by the DOFs (all modes, \
          O(n³)); the sparse one's grows with the modes asked for. On generated frame towers (beams, \
          offset masses, springs) with the lowest tenth of the modes (at most 100), see the table below; \
-         on the stack, where about 45% of all modes lie below 2 kHz: {stack_pairs}. `Auto` switches \
-         to sparse above {} reduced DOFs, which keeps the verification scenes and the 6-satellite \
-         stack on the dense solver.\n",
-        r.auto_sparse_dofs
+         on the stack, where about 45% of all modes lie below 2 kHz: {stack_pairs}. `Auto` models \
+         the dense cost as {:.1e} s × DOFs³ and the sparse one as {:.1e} s × DOFs × max(modes, {}) \
+         (constants fitted to this table, see `modal::auto_prefers_sparse`) and takes the cheaper; \
+         up to {} DOFs it stays dense. The last column is its choice.\n",
+        r.auto_cost_model[0],
+        r.auto_cost_model[1],
+        crate::modal::SPARSE_MIN_MODES,
+        crate::modal::AUTO_DENSE_DOFS
     );
-    let _ = writeln!(s, "| DOFs | modes | dense [s] | sparse [s] |");
-    let _ = writeln!(s, "|---:|---:|---:|---:|");
+    let _ = writeln!(s, "| DOFs | modes | dense [s] | sparse [s] | auto |");
+    let _ = writeln!(s, "|---:|---:|---:|---:|---|");
     for c in &r.crossover {
+        let auto = if crate::modal::auto_prefers_sparse(c.dofs, c.modes) {
+            "sparse"
+        } else {
+            "dense"
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {:.3} | {:.3} |",
+            "| {} | {} | {:.3} | {:.3} | {auto} |",
             c.dofs, c.modes, c.dense_s, c.sparse_s
         );
     }
+    s.push_str(&super::modal_sweep::markdown(&r.fmax_sweep));
     s
 }
 

@@ -4,7 +4,7 @@
 //! masses for the six rigid-body directions about the model's centre of mass.
 //! Input: a `fem::FeModel`. Small models go to the dense solvers (`dense`), large ones to the
 //! sparse ones (`sparse`: LDLᵀ, shift-invert block Lanczos with a Sturm-count proof); see
-//! [`AUTO_SPARSE_DOFS`] for where `SolverChoice::Auto` switches.
+//! [`auto_prefers_sparse`] for how `SolverChoice::Auto` chooses.
 
 pub mod checks;
 pub mod dense;
@@ -15,17 +15,34 @@ use crate::fem::model::{FeModel, Reduction, Triplets, dense as to_dense};
 use crate::spec::SolverChoice;
 use serde::Serialize;
 
-/// Reduced DOFs above which `SolverChoice::Auto` uses the sparse solver (when the scene bounds
-/// the modes with `fmax_hz` or `modes`). Measured with `satqual bench modal` on the 2-core
-/// development machine (reports/bench/modal.md): the dense cost is fixed by n (all modes,
-/// O(n³): 0.03 s at 500 DOFs, 1.9 s at 2200), the sparse one grows with the modes in the band.
-/// For a narrow band (a tenth of the modes) sparse wins from a few hundred DOFs. For the stack
-/// at 2 kHz, where ~45% of all modes are in the band, dense won at 692 DOFs until the sparse
-/// kernels got faster; now sparse wins there too (0.09 s against 0.14 s) and at 2120 (0.6 s
-/// against 2.9 s). 1500 is kept: it leaves the verification scenes and the 6-satellite paper
-/// stack on the dense path, which returns every mode and needs no Sturm proof, at a cost of
-/// a few hundredths of a second.
-pub const AUTO_SPARSE_DOFS: usize = 1500;
+/// Cost model of `SolverChoice::Auto`, measured with `satqual bench modal` on the 2-core
+/// development machine (its crossover table in reports/bench/modal.md: generated frame towers of
+/// 492–2214 DOFs asking for the lowest tenth of their modes, at most 100).
+///
+/// The dense solver always computes every mode: t ≈ [`DENSE_S_PER_DOF3`]·n³ (1.5e-10 s on the
+/// 1476- and 2214-DOF towers, 3.2e-10 on the 492-DOF one where the fixed costs show; the
+/// stacks' 2.7–3.5e-10 include their dense buckling solve).
+pub const DENSE_S_PER_DOF3: f64 = 2.0e-10;
+/// The sparse solver's cost grows with the modes it must find: t ≈ [`SPARSE_S_PER_DOF_MODE`]
+/// ·n·max(k, [`SPARSE_MIN_MODES`]) (towers: 2.6–2.8e-7 s per DOF and mode at 100 modes, 5.4e-7
+/// at 49; the 1440-DOF tower asking for 12 modes took 0.02–0.03 s, as for about 50 modes: a
+/// Lanczos run never has fewer than a few blocks of vectors).
+pub const SPARSE_S_PER_DOF_MODE: f64 = 3.5e-7;
+pub const SPARSE_MIN_MODES: usize = 50;
+/// Up to this many reduced DOFs `Auto` uses the dense solver whatever the request: it costs a
+/// few milliseconds there (2e-10·300³ ≈ 5 ms), returns every mode with its rigid-body and
+/// conditioning checks, and needs no Sturm proof. It keeps the verification scenes (≤ 240
+/// DOFs) and the 2-satellite shaker model (284) on the path their goldens were made with.
+pub const AUTO_DENSE_DOFS: usize = 300;
+
+/// Whether `Auto` takes the sparse path for `k` modes of an n-DOF model: when its modelled
+/// cost is below the dense one's. On the 6-satellite stack at 2 kHz (692 DOFs, 300 modes) the
+/// two are within the model's spread (measured 0.08 s sparse, 0.12 s dense); the model keeps it
+/// dense (0.073 s against 0.066 s modelled).
+pub fn auto_prefers_sparse(n: usize, k: usize) -> bool {
+    let (nf, kf) = (n as f64, k.max(SPARSE_MIN_MODES) as f64);
+    n > AUTO_DENSE_DOFS && SPARSE_S_PER_DOF_MODE * nf * kf < DENSE_S_PER_DOF3 * nf.powi(3)
+}
 
 /// What to extract.
 #[derive(Debug, Clone, Default)]
@@ -189,7 +206,7 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
     let k0 = red.reduce(&k_full);
     let m = red.reduce(&m_full);
     check_every_dof_has_mass(model, &red, &m)?;
-    let use_sparse = use_sparse_solver(opts, red.n_red)?;
+    let use_sparse = use_sparse_solver(opts, red.n_red, (&k0, &m))?;
 
     let loads = model.load_vector();
     let prestressed = loads.iter().any(|&f| f != 0.0);
@@ -233,14 +250,20 @@ fn check_every_dof_has_mass(
 }
 
 /// Whether the request goes to the sparse solver, which needs a bounded band of modes.
-fn use_sparse_solver(opts: &ModalOptions, n_red: usize) -> Result<bool, crate::Error> {
+fn use_sparse_solver(
+    opts: &ModalOptions,
+    n_red: usize,
+    (k0, m): (&Triplets, &Triplets),
+) -> Result<bool, crate::Error> {
     let use_sparse = match opts.solver {
         SolverChoice::Dense => false,
         SolverChoice::Sparse => true,
-        // "All modes" of a large model is a dense job: only a bounded request goes sparse.
-        SolverChoice::Auto => {
-            n_red > AUTO_SPARSE_DOFS && (opts.fmax_hz.is_some() || opts.modes.is_some())
-        }
+        // "All modes" is a dense job; a bounded request goes where the cost model says.
+        SolverChoice::Auto if n_red <= AUTO_DENSE_DOFS => false,
+        SolverChoice::Auto => match requested_modes(opts, n_red, (k0, m)) {
+            Some(k) => auto_prefers_sparse(n_red, k),
+            None => false,
+        },
     };
     if use_sparse && opts.fmax_hz.is_none() && opts.modes.is_none() {
         return Err(ModalError::Invalid(format!(
@@ -249,6 +272,30 @@ fn use_sparse_solver(opts: &ModalOptions, n_red: usize) -> Result<bool, crate::E
         .into());
     }
     Ok(use_sparse)
+}
+
+/// How many modes a bounded request asks for: `modes`, or the Sturm count of the unstressed
+/// stiffness at (2π·fmax)² (one sparse LDLᵀ, a millisecond next to either solve; the prestress
+/// moves the count a little, which the cost model does not need). `None` for "all modes", or
+/// when the count cannot be taken (the solver chosen then reports the problem itself).
+fn requested_modes(
+    opts: &ModalOptions,
+    n: usize,
+    (k0, m): (&Triplets, &Triplets),
+) -> Option<usize> {
+    let counted = opts.fmax_hz.and_then(|f| {
+        let kc = sparse::SymCsc::from_triplets(n, k0);
+        let mc = sparse::SymCsc::from_triplets(n, m);
+        let pencil = sparse::Pencil::new(&kc, Some(&mc)).ok()?;
+        let lmax = (2.0 * std::f64::consts::PI * f).powi(2);
+        pencil.factor(lmax).ok().map(|fac| fac.negative)
+    });
+    match (opts.modes, opts.fmax_hz) {
+        (Some(k), None) => Some(k),
+        (Some(k), Some(_)) => Some(counted.map_or(k, |c| c.min(k))),
+        (None, Some(_)) => Some(counted.unwrap_or(n)),
+        (None, None) => None,
+    }
 }
 
 /// A sparse-solver failure in the model's terms: a pivot becomes the node and DOF it sits on.

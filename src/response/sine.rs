@@ -14,6 +14,7 @@ use super::{Curves, Frf, Prepared, axis_name};
 use crate::error::Error;
 use crate::gates::Verdict;
 use crate::spec::analysis::SineSpec;
+use faer::c64;
 use serde::Serialize;
 
 #[derive(Debug, Clone)]
@@ -22,7 +23,7 @@ pub struct SineOptions {
     /// Modes kept (all computed ones when `None`).
     pub modes: Option<usize>,
     pub residual: bool,
-    /// Refine response-point peaks between grid points.
+    /// Refine response-point and joint-load peaks between grid points.
     pub refine: bool,
 }
 
@@ -107,7 +108,7 @@ pub fn run(
         .flat_map(|s| [s.from_hz, s.to_hz])
         .collect();
     let f = grid::clustered(lo, hi, &modes, opts.grid, &breaks)?;
-    let mut out = evaluate(prep, spec, axis, &frf, &f)?;
+    let mut out = evaluate(prep, spec, axis, (&frf, opts.refine), &f)?;
     out.modes_used = basis.n_modes;
     out.residual_vector = basis.len() > basis.n_modes;
     if opts.refine {
@@ -125,10 +126,8 @@ pub fn run(
                         b
                     }
                 });
-            let a = f[k.saturating_sub(1)];
-            let b = f[(k + 1).min(f.len() - 1)];
             let g = |x: f64| frf.eval_row(x, row).norm() * spec.level_g(x);
-            let (fx, gx) = grid::refine_max(a, b, &g);
+            let (fx, gx) = refined_peak(&f, k, out.peaks[pi].acceleration_g, &g);
             if gx > out.peaks[pi].acceleration_g {
                 out.peaks[pi].frequency_hz = fx;
                 out.peaks[pi].acceleration_g = gx;
@@ -139,12 +138,29 @@ pub fn run(
     Ok(out)
 }
 
+/// The peak of `g` at grid point k: the golden-section maximum between its grid neighbours
+/// when that is higher than the grid value, else the grid point itself.
+fn refined_peak(f: &[f64], k: usize, grid_max: f64, g: &dyn Fn(f64) -> f64) -> (f64, f64) {
+    let a = f[k.saturating_sub(1)];
+    let b = f[(k + 1).min(f.len() - 1)];
+    let (fx, gx) = grid::refine_max(a, b, g);
+    if gx > grid_max {
+        (fx, gx)
+    } else {
+        (f[k], grid_max)
+    }
+}
+
 /// Evaluates any FRF (modal or direct) on a given grid and reduces it to peaks and margins.
+/// With `refine`, every joint-load peak (tension, shear, moment and the gapping load that
+/// the margins read) is refined between its grid neighbours on the FRF itself, as the
+/// response points' accelerations are: on the grid alone a peak between two points reads low
+/// (unconservative) by up to the grid's miss.
 pub fn evaluate(
     prep: &Prepared,
     spec: &SineSpec,
     axis: usize,
-    frf: &dyn Frf,
+    (frf, refine): (&dyn Frf, bool),
     f: &[f64],
 ) -> Result<SineAxis, Error> {
     let h = super::frf::on_grid(frf, f);
@@ -187,19 +203,34 @@ pub fn evaluate(
         let m: Vec<f64> = (0..f.len())
             .map(|k| amp(k, r[3]).hypot(amp(k, r[4])))
             .collect();
-        let (kt, tmax) = argmax(&t);
-        let (ks, smax) = argmax(&s);
-        let (_, mmax) = argmax(&m);
-        let pext = (0..f.len())
-            .map(|k| t[k] + m[k] * prep.face_moment_factor(i))
-            .fold(0.0, f64::max);
+        let factor = prep.face_moment_factor(i);
+        let p: Vec<f64> = (0..f.len()).map(|k| t[k] + m[k] * factor).collect();
+        let peak = |v: &[f64], load: &dyn Fn(&[c64]) -> f64| {
+            let (k, grid_max) = argmax(v);
+            if !refine {
+                return (f[k], grid_max);
+            }
+            let at = |x: f64| {
+                let mut h = Vec::new();
+                frf.eval(x, &mut h);
+                load(&h) * spec.level_g(x)
+            };
+            refined_peak(f, k, grid_max, &at)
+        };
+        let norm = |h: &[c64], row: usize| h[row].norm();
+        let (ft, tmax) = peak(&t, &|h| norm(h, r[2]));
+        let (fs, smax) = peak(&s, &|h| norm(h, r[0]).hypot(norm(h, r[1])));
+        let (_, mmax) = peak(&m, &|h| norm(h, r[3]).hypot(norm(h, r[4])));
+        let (_, pext) = peak(&p, &|h| {
+            norm(h, r[2]) + norm(h, r[3]).hypot(norm(h, r[4])) * factor
+        });
         ms.extend(margins::interface(i, pext, smax, &prep.margins, &case));
         interfaces.push(InterfaceSine {
             name: i.name.clone(),
             max_tension_n: tmax,
-            tension_frequency_hz: f[kt],
+            tension_frequency_hz: ft,
             max_shear_n: smax,
-            shear_frequency_hz: f[ks],
+            shear_frequency_hz: fs,
             max_moment_n_m: mmax,
             preload_n: i.preload_n,
         });

@@ -9,7 +9,7 @@
 
 use super::csc::SymCsc;
 use super::eigen::SparseStats;
-use super::factor::{Pencil, factor_away_from_eigenvalue};
+use super::factor::{Pencil, factor_away_from_eigenvalue, factor_in_gap};
 use super::slice::{SLICE_MODES, run_slice};
 use super::{Pair, SparseError};
 use faer::Mat;
@@ -49,7 +49,9 @@ pub(super) fn band_edges(
                 let fac = factor_away_from_eigenvalue(pencil, mid * mid, &mut st)?;
                 let c = fac.negative;
                 if c.abs_diff(goal) <= slack {
-                    return Ok((Some((fac.sigma, c)), st.factorizations));
+                    // A cut is a partition point: moved into a gap of the spectrum.
+                    let cut = factor_in_gap(pencil, fac.sigma, &mut st)?;
+                    return Ok((Some((cut.sigma, cut.negative)), st.factorizations));
                 }
                 if c < goal {
                     lo = mid;

@@ -3,7 +3,7 @@
 
 use super::bands::{BAND_MODES, band_edges, run_band};
 use super::csc::SymCsc;
-use super::factor::{Pencil, factor_away_from_eigenvalue};
+use super::factor::{Pencil, factor_away_from_eigenvalue, factor_in_gap};
 use super::{Pair, SparseError};
 use crate::error::ModalError;
 use faer::{Mat, Par};
@@ -69,11 +69,12 @@ pub fn eigen(
     if want_modes == Some(0) {
         return Ok((Vec::new(), stats));
     }
-    // Sturm count at the top of the band.
+    // Sturm count at the top of the band, in a gap of the spectrum: a cluster of repeated
+    // modes within EDGE_GAP of (2π·fmax)² is taken whole, the top moved just above it.
     let mut top: Option<Edge> = None;
     if let Some(f) = fmax_hz {
         let lmax = (two_pi * f).powi(2);
-        let fac = factor_away_from_eigenvalue(&pencil, lmax, &mut stats)?;
+        let fac = factor_in_gap(&pencil, lmax, &mut stats)?;
         stats.fmax_count = Some(fac.negative);
         top = Some((fac.sigma, fac.negative));
     }
@@ -303,7 +304,7 @@ fn rayleigh_quotients(k: &SymCsc, m: &SymCsc, accepted: &mut [Pair]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::super::RESIDUAL_TOL;
-    use super::super::testing::{chain, chain_eigenvalues, identity};
+    use super::super::testing::{chain, chain_eigenvalues, diagonal, identity};
     use super::*;
 
     fn solve(n: usize, fmax_hz: f64) -> (Vec<Pair>, SparseStats) {
@@ -353,6 +354,53 @@ mod tests {
             );
         }
         assert_eq!(one.len(), two.len());
+    }
+
+    /// 1, 2, …, 80 and 25 copies of 50.5 (M = I): the stack's column-joint cluster near the
+    /// top of the band on a fine mesh.
+    fn clustered_spectrum() -> Vec<f64> {
+        let mut d: Vec<f64> = (1..=80).map(f64::from).collect();
+        d.extend(std::iter::repeat_n(50.5, 25));
+        d
+    }
+
+    fn solve_to(d: &[f64], lambda_top: f64) -> (Vec<Pair>, SparseStats) {
+        let fmax = lambda_top.sqrt() / (2.0 * std::f64::consts::PI);
+        eigen(&diagonal(d), &identity(d.len()), Some(fmax), None).unwrap()
+    }
+
+    fn copies_of(pairs: &[Pair], l: f64) -> usize {
+        pairs
+            .iter()
+            .filter(|p| (p.0 - l).abs() <= RESIDUAL_TOL * l)
+            .count()
+    }
+
+    /// A 25-fold eigenvalue just below the top of the band, above the last slice's shift: the
+    /// slice whose run of converged values reaches the top must still bring in every copy.
+    /// Below λ = 50.75 lie exactly 50 + 25 eigenvalues (the spectrum's definition).
+    #[test]
+    fn a_cluster_just_below_the_top_is_taken_whole() {
+        let (pairs, stats) = solve_to(&clustered_spectrum(), 50.75);
+        assert_eq!(stats.fmax_count, Some(75));
+        assert_eq!(pairs.len(), 75);
+        assert_eq!(copies_of(&pairs, 50.5), 25);
+    }
+
+    /// A band top exactly on the 25-fold eigenvalue, or exactly on a simple one: the top
+    /// moves into the gap just above it (EDGE_GAP), so the cluster is taken whole and the
+    /// count includes it: 50 + 25 below 50.5⁺, 51 + 25 below 51⁺.
+    #[test]
+    fn a_top_on_an_eigenvalue_keeps_it_whole() {
+        let d = clustered_spectrum();
+        let (pairs, stats) = solve_to(&d, 50.5);
+        assert_eq!(stats.fmax_count, Some(75));
+        assert_eq!(pairs.len(), 75);
+        assert_eq!(copies_of(&pairs, 50.5), 25);
+        let (pairs, stats) = solve_to(&d, 51.0);
+        assert_eq!(stats.fmax_count, Some(76));
+        assert_eq!(pairs.len(), 76);
+        assert_eq!(copies_of(&pairs, 51.0), 1);
     }
 
     #[test]

@@ -321,6 +321,40 @@ pub(super) fn factor_away_from_eigenvalue<'a>(
     )
 }
 
+/// Relative half-width of the gap a partition point of the spectrum keeps from every
+/// eigenvalue: 100× the first-order error bound of an accepted Ritz value
+/// ([`super::RESIDUAL_TOL`]), so that no eigenvalue counted on one side of the point can be
+/// computed on the other.
+pub const EDGE_GAP: f64 = 1e-8;
+/// Steps of 2·[`EDGE_GAP`] tried before a partition point is used where it is.
+const GAP_STEPS: usize = 64;
+
+/// Factors K − σM at a partition point of the spectrum (the band's top, a band cut, a slice's
+/// shift or edge): a point whose count says on which side of it an eigenvalue lies. If an
+/// eigenvalue sat within a Ritz value's error of it (a copy of a repeated mode counted below
+/// the point but computed just above it), the slice would never complete. So σ moves up by
+/// 2·EDGE_GAP·|σ| at a time until the counts at σ·(1 ∓ EDGE_GAP) agree: no eigenvalue is
+/// then within EDGE_GAP of σ, and a cluster of repeated modes that straddled it lies wholly
+/// below. Where the spectrum has no such gap within GAP_STEPS steps, σ itself is used (the
+/// count is still exact; the slices' own checks then decide).
+pub(super) fn factor_in_gap<'a>(
+    pencil: &'a Pencil,
+    sigma: f64,
+    stats: &mut SparseStats,
+) -> Result<Factor<'a>, SparseError> {
+    let mut s = sigma;
+    for _ in 0..GAP_STEPS {
+        let w = EDGE_GAP * s.abs().max(f64::MIN_POSITIVE);
+        let below = factor_away_from_eigenvalue(pencil, s - w, stats)?.negative;
+        let above = factor_away_from_eigenvalue(pencil, s + w, stats)?.negative;
+        if below == above {
+            return factor_away_from_eigenvalue(pencil, s, stats);
+        }
+        s += 2.0 * w;
+    }
+    factor_away_from_eigenvalue(pencil, sigma, stats)
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::testing::{chain, chain_eigenvalues, csc, dense, diagonal, identity};

@@ -28,7 +28,7 @@
 use super::cluster::cluster_pairs;
 use super::csc::SymCsc;
 use super::eigen::SparseStats;
-use super::factor::{Factor, Pencil, factor_away_from_eigenvalue};
+use super::factor::{Factor, Pencil, factor_away_from_eigenvalue, factor_in_gap};
 use super::lanczos::{BLOCK, Lanczos, MAX_BASIS};
 use super::{Pair, RESIDUAL_TOL, SparseError};
 use crate::error::ModalError;
@@ -163,12 +163,21 @@ pub(super) fn run_slice(
                 let enough = below_have + converged >= SLICE_MODES.min(remaining);
                 if enough || !more {
                     let b = edge_above_run(&above, run_end, s);
-                    if b == s {
-                        edge = Some((s, c_s));
-                    } else if top.is_none_or(|(ts, _)| b < ts) {
-                        let fac_b = factor_away_from_eigenvalue(pencil, b, stats)?;
-                        edge = Some((fac_b.sigma, fac_b.negative));
-                    }
+                    edge = Some(match top {
+                        // The run reaches the band's top: the slice is the rest of the band,
+                        // and copies of a cluster missing below the top are looked for like
+                        // any others (left without an edge, the restarts would aim at s
+                        // forever while the cluster waited above it).
+                        Some(t) if b >= t.0 => t,
+                        _ if b == s => (s, c_s),
+                        _ => {
+                            let fac_b = factor_in_gap(pencil, b, stats)?;
+                            match top {
+                                Some(t) if fac_b.sigma >= t.0 => t,
+                                _ => (fac_b.sigma, fac_b.negative),
+                            }
+                        }
+                    });
                 }
             }
             if let Some((b, c_b)) = edge {
@@ -283,6 +292,15 @@ fn slice_shift<'a>(
         }
         s = a + 0.5 * (fac_s.sigma - a);
         fac_s = factor_away_from_eigenvalue(pencil, s, stats)?;
+    }
+    // The shift partitions the slice too ([a, s) must be found whole): into a gap, but never
+    // past the band's top, which is in one already.
+    if fac_s.sigma > a {
+        let moved = factor_in_gap(pencil, fac_s.sigma, stats)?;
+        fac_s = match top {
+            Some((ts, _)) if moved.sigma >= ts => factor_away_from_eigenvalue(pencil, ts, stats)?,
+            _ => moved,
+        };
     }
     Ok(fac_s)
 }

@@ -11,7 +11,9 @@ use std::path::Path;
 
 /// Writes a modal system's reduced K, M (and with prestress K_G and K + K_G, the stiffness the
 /// eigen-solve used) as Matrix Market files, with the DOF map `dofs.csv`, into `dir`: what an
-/// external eigen-solver needs to reproduce the modes.
+/// external eigen-solver needs to reproduce the modes; and the base-drive vectors
+/// `influence.csv` ([`influence_csv`]), with which the files alone reproduce a base-driven
+/// response.
 pub fn export(dir: &Path, model: &FeModel, sys: &ModalSystem) -> Result<(), Error> {
     let red = &sys.reduction;
     let k = red.reduce(&model.stiffness());
@@ -41,7 +43,39 @@ pub fn export(dir: &Path, model: &FeModel, sys: &ModalSystem) -> Result<(), Erro
             .unwrap_or_default();
         let _ = writeln!(csv, "{},\"{}\",{},{}", i, label, id, dof);
     }
-    write_atomic(&dir.join("dofs.csv"), csv.as_bytes())
+    write_atomic(&dir.join("dofs.csv"), csv.as_bytes())?;
+    write_atomic(
+        &dir.join("influence.csv"),
+        influence_csv(model, sys).as_bytes(),
+    )
+}
+
+/// The base drive per reduced DOF, one row each (`index` as in `dofs.csv`): `p_x, p_y, p_z`,
+/// the load of a unit base acceleration (1 m/s²) along x, y, z, p = Tᵀ·M_full·r (kg: the
+/// inertia of the whole structure, the mass coupling to the supported DOFs included), and
+/// `r_x, r_y, r_z`, the rigid translation of the DOF with the base (1 on the DOF that moves
+/// along the axis, else 0). The relative displacement then solves
+/// (K − ω²M + iωC)·u = −p·ü_b, and the absolute acceleration is −ω²·u + r·ü_b.
+pub fn influence_csv(model: &FeModel, sys: &ModalSystem) -> String {
+    let red = &sys.reduction;
+    let p: Vec<Vec<f64>> = (0..3)
+        .map(|a| crate::response::basis::influence_load(model, sys, a))
+        .collect();
+    let mut s = String::from("index,p_x,p_y,p_z,r_x,r_y,r_z\n");
+    for (i, &f) in red.red_to_full.iter().enumerate() {
+        let r = |a: usize| u8::from(f % 6 == a);
+        let _ = writeln!(
+            s,
+            "{i},{:.17e},{:.17e},{:.17e},{},{},{}",
+            p[0][i],
+            p[1][i],
+            p[2][i],
+            r(0),
+            r(1),
+            r(2)
+        );
+    }
+    s
 }
 
 /// Matrix Market coordinate format, lower triangle of a symmetric matrix, duplicates summed.
