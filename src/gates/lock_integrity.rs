@@ -5,12 +5,15 @@
 use super::verdict::Verdict;
 
 /// One gate per checked item: the margin as computed, renamed `kind: item (load case)` because
-/// the gate list of a qualification has no kind and load-case columns.
+/// the gate list of a qualification has no kind and load-case columns; family and unit are
+/// the margin's.
 pub fn governing(margins: &[Verdict]) -> Vec<Verdict> {
     margins
         .iter()
-        .map(|m| {
-            Verdict::gate(
+        .map(|m| Verdict {
+            group: m.group,
+            unit: m.unit.clone(),
+            ..Verdict::gate(
                 format!("{}: {} ({})", m.kind, m.name, m.load_case),
                 m.value,
                 m.limit,

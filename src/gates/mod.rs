@@ -16,4 +16,4 @@ pub mod separation;
 pub mod test_data;
 pub mod verdict;
 
-pub use verdict::{Verdict, above, at_least, at_most, margin_of_safety};
+pub use verdict::{Group, Verdict, above, at_least, at_most, margin_of_safety};
