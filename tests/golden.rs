@@ -165,3 +165,42 @@ fn qualify_results_match_the_golden_files() {
         diffs.join("\n")
     );
 }
+
+/// The gate schema of results.json, read from the stored qualify goldens (so it holds for
+/// every reference scene): each gate has `name, group, value, limit, unit, margin, pass,
+/// source`, its group is one of the six families, and no source points into the code (a
+/// Rust path such as `spec::qualify`) instead of a standard or a stated assumption.
+#[test]
+fn every_qualify_gate_has_a_group_a_unit_and_a_source_outside_the_code() {
+    const GROUPS: [&str; 6] = [
+        "frequency",
+        "buckling",
+        "lock_integrity",
+        "bar_strength",
+        "separation",
+        "test_data",
+    ];
+    let mut checked = 0;
+    for scene in SCENES {
+        let name = format!("qualify-{}.json", stem(scene));
+        let text = std::fs::read_to_string(golden_dir().join(&name)).expect("golden file");
+        let json: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+        let gates = json["gates"].as_array().expect("a gates array");
+        assert!(!gates.is_empty(), "{name}: no gates");
+        for g in gates {
+            let gate = g["name"].as_str().unwrap_or("?");
+            for key in ["value", "limit", "margin", "pass"] {
+                assert!(g.get(key).is_some(), "{name}: {gate}: no {key}");
+            }
+            let group = g["group"].as_str().unwrap_or("");
+            assert!(GROUPS.contains(&group), "{name}: {gate}: group {group:?}");
+            assert!(g["unit"].is_string(), "{name}: {gate}: no unit field");
+            let source = g["source"].as_str().unwrap_or("");
+            assert!(!source.is_empty(), "{name}: {gate}: empty source");
+            assert!(!source.contains("::"), "{name}: {gate}: source {source:?}");
+            checked += 1;
+        }
+    }
+    // The paper stack alone has 79 gates, so far more than a handful were checked.
+    assert!(checked > 79, "only {checked} gates checked");
+}

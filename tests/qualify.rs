@@ -70,7 +70,8 @@ fn modal_only_scene_skips_the_rest_and_says_so() {
 #[test]
 fn failed_gate_exits_1_names_it_and_still_writes_the_report() {
     // FV4 against a 10 Hz lateral minimum: its first modes are at 1.72 Hz, so the stiffness
-    // gates must fail, with a negative margin of 1.723/10 − 1 = −82.8%.
+    // gates must fail, with a negative margin of 1.723/10 − 1 = −82.8% laterally; the axial
+    // gate, 1.727/25 − 1 = −93.1%, has the smallest margin and governs the family.
     let d = tmp("fail");
     let text = std::fs::read_to_string("test-specs/verification/nafems-fv4.toml").unwrap();
     let scene = d.join("fv4.toml");
@@ -94,7 +95,9 @@ fn failed_gate_exits_1_names_it_and_still_writes_the_report() {
     );
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
-        stdout.contains("FAILED first lateral frequency") && stdout.contains("margin -82."),
+        stdout.contains("frequency: FAIL")
+            && stdout.contains("governing first axial frequency")
+            && stdout.contains("margin -93."),
         "{stdout}"
     );
     let v: serde_json::Value =
@@ -266,7 +269,7 @@ fn reduced_preload_gaps_and_the_gate_says_so() {
     );
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
-        stdout.contains("FAILED gapping: gapping interface"),
+        stdout.contains("lock integrity: FAIL") && stdout.contains("gapping: gapping interface"),
         "{stdout}"
     );
     let v: serde_json::Value =
@@ -364,5 +367,88 @@ fn corrupted_log_exits_2_naming_file_and_row_and_writes_nothing() {
             .to_string_lossy()
             .starts_with('.'))
     );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The first screen of the paper stack's report, as Chromium lays it out at 1400 × 900 px:
+/// the verdict and the governing-gates table (one row per family) end above 900 px. A script
+/// added to a copy of the page measures them with getBoundingClientRect and writes the numbers
+/// into the DOM, which `--dump-dom` prints. Also takes the screenshot at that size; with
+/// `SATQUAL_SCREENSHOT=path` it is kept there (docs/img/report-first-screen.png is made so).
+#[test]
+fn first_screen_holds_the_verdict_and_the_governing_gates() {
+    let Some(chromium) = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
+        .iter()
+        .find(|p| Path::new(p).exists())
+    else {
+        println!(
+            "SKIPPED first_screen_holds_the_verdict_and_the_governing_gates: no Chromium installed (apt-get install chromium)"
+        );
+        return;
+    };
+    let d = tmp("first-screen");
+    let out = d.join("report");
+    let o = qualify(Path::new("test-specs/paper-stack.toml"), &out, None);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "the reference stack fails its gates"
+    );
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    const MEASURE: &str = "<script>addEventListener('load',()=>{\
+        const v=document.querySelector('.verdict').getBoundingClientRect();\
+        const t=[...document.querySelectorAll('table')].find(t=>t.innerText.includes('governing gate'));\
+        const r=t.getBoundingClientRect();\
+        document.body.setAttribute('data-layout',[v.top,v.bottom,r.top,r.bottom,t.rows.length].join(' '));});\
+        </script></body>";
+    let probe = d.join("probe.html");
+    std::fs::write(&probe, html.replace("</body>", MEASURE)).unwrap();
+    let run = |extra: &[String], page: &Path| {
+        let mut c = Command::new(chromium);
+        c.args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+            "--no-first-run",
+            "--window-size=1400,900",
+            &format!("--user-data-dir={}", d.join("profile").display()),
+        ]);
+        c.args(extra).arg(format!(
+            "file://{}",
+            std::fs::canonicalize(page).unwrap().display()
+        ));
+        c.output().unwrap()
+    };
+    let dom = run(&["--dump-dom".into()], &probe);
+    let dom = String::from_utf8_lossy(&dom.stdout);
+    let layout = dom
+        .split("data-layout=\"")
+        .nth(1)
+        .and_then(|s| s.split('"').next())
+        .unwrap_or_else(|| panic!("no layout measured: {dom:.400}"));
+    let n: Vec<f64> = layout.split(' ').map(|x| x.parse().unwrap()).collect();
+    let (verdict_bottom, table_bottom, rows) = (n[1], n[3], n[4]);
+    assert!(
+        verdict_bottom < 900.0,
+        "verdict ends at {verdict_bottom} px"
+    );
+    assert!(
+        table_bottom < 900.0,
+        "governing gates end at {table_bottom} px"
+    );
+    // Header + one row per family the paper stack gates: frequency, buckling, lock
+    // integrity, bar strength, separation.
+    assert_eq!(rows, 6.0, "{layout}");
+    let png = d.join("first-screen.png");
+    run(
+        &[format!("--screenshot={}", png.display())],
+        &out.join("report.html"),
+    );
+    let bytes = std::fs::read(&png).expect("a screenshot");
+    assert_eq!(&bytes[1..4], b"PNG");
+    if let Some(keep) = std::env::var_os("SATQUAL_SCREENSHOT") {
+        std::fs::copy(&png, keep).unwrap();
+    }
     let _ = std::fs::remove_dir_all(&d);
 }

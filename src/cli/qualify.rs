@@ -4,6 +4,7 @@
 
 use super::{Outcome, Printer};
 use satqual::Error;
+use satqual::gates::{Group, Verdict};
 use satqual::pipeline::Progress;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -35,6 +36,41 @@ impl Progress for Spinner {
             b.set_message(name.to_string());
         }
     }
+}
+
+/// A gate's name, value and limit with their unit, and margin, on one line.
+fn gate_line(g: &Verdict) -> String {
+    let unit = if g.unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {}", g.unit)
+    };
+    format!(
+        "{}: value {:.4}{unit}, limit {:.4}{unit}, margin {}",
+        g.name,
+        g.value,
+        g.limit,
+        satqual::gates::summary::margin_text(g)
+    )
+}
+
+/// In family `group`, the worst failed gate of every kind other than the governing one's
+/// (slip when gapping governs, say), so that no failing kind of check goes unnamed.
+fn worst_failed_per_kind<'a>(
+    gates: &'a [Verdict],
+    group: Option<Group>,
+    governing_kind: &str,
+) -> Vec<&'a Verdict> {
+    let mut worst: Vec<&Verdict> = Vec::new();
+    let failed = gates.iter().filter(|g| g.group == group && !g.pass);
+    for g in failed.filter(|g| !g.kind.is_empty() && g.kind != governing_kind) {
+        match worst.iter_mut().find(|w| w.kind == g.kind) {
+            Some(w) if g.margin < w.margin => *w = g,
+            Some(_) => {}
+            None => worst.push(g),
+        }
+    }
+    worst
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
@@ -69,15 +105,19 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             q.gates.len(),
             nfail
         );
-        for g in q.gates.iter().filter(|g| !g.pass) {
+        for f in satqual::gates::summary::families(&q.gates) {
+            let verdict = if f.failed == 0 { "pass" } else { "FAIL" };
+            let family = f.group.map_or("other", |g| g.label());
             let _ = writeln!(
                 t,
-                "  FAILED {}: value {:.4}, limit {:.4}, margin {:+.1}%",
-                g.name,
-                g.value,
-                g.limit,
-                g.margin * 100.0
+                "  {family}: {verdict} ({} of {} failed); governing {}",
+                f.failed,
+                f.total,
+                gate_line(f.governing)
             );
+            for g in worst_failed_per_kind(&q.gates, f.group, &f.governing.kind) {
+                let _ = writeln!(t, "    also failed: {}", gate_line(g));
+            }
         }
         for s in &q.skipped {
             let _ = writeln!(t, "  skipped {}: {}", s.analysis, s.reason);

@@ -7,7 +7,7 @@
 //! fails as "not evaluated" otherwise. Only a direction in which no free DOF carries mass
 //! (fully supported) has no gate.
 
-use super::verdict::{Verdict, at_least};
+use super::verdict::{Group, Verdict, at_least};
 use crate::modal::ModalResult;
 use crate::spec::GatesSpec;
 
@@ -95,6 +95,7 @@ pub fn first_frequencies(
             None if free => Some(beyond_band(what, band.top_hz, limit, source)),
             None => None,
         })
+        .map(|v| v.in_group(Group::Frequency).with_unit("Hz"))
         .collect()
 }
 
@@ -140,6 +141,8 @@ pub fn buckling(factor: Option<f64>, limits: &GatesSpec) -> Option<Verdict> {
             limits.min_buckling_factor,
             "linear buckling (K + λ·K_G)φ = 0, [gates] min_buckling_factor",
         )
+        .in_group(Group::Buckling)
+        .with_unit("")
     })
 }
 

@@ -4,20 +4,15 @@
 
 use super::verdict::Verdict;
 
-/// One gate per checked item: the margin as computed, renamed `kind: item (load case)` because
-/// the gate list of a qualification has no kind and load-case columns.
+/// One gate per checked item: the margin as computed, renamed `kind: item (load case)` so that
+/// the name alone says what it is; kind and load case stay, for the report to aggregate the
+/// items of one kind and load case.
 pub fn governing(margins: &[Verdict]) -> Vec<Verdict> {
     margins
         .iter()
-        .map(|m| {
-            Verdict::gate(
-                format!("{}: {} ({})", m.kind, m.name, m.load_case),
-                m.value,
-                m.limit,
-                m.margin,
-                m.pass,
-                m.source.clone(),
-            )
+        .map(|m| Verdict {
+            name: format!("{}: {} ({})", m.kind, m.name, m.load_case),
+            ..m.clone()
         })
         .collect()
 }
@@ -35,7 +30,10 @@ mod tests {
         };
         let g = governing(&[m]);
         assert_eq!(g[0].name, "slip: slip joint 1 (sine x)");
-        assert!(g[0].kind.is_empty() && g[0].load_case.is_empty());
+        assert_eq!(
+            (g[0].kind.as_str(), g[0].load_case.as_str()),
+            ("slip", "sine x")
+        );
         assert_eq!((g[0].value, g[0].limit, g[0].margin), (100.0, 150.0, 0.5));
     }
 }

@@ -8,12 +8,14 @@
 //! - [`frequency`]: first lateral and axial frequencies, buckling factor;
 //! - [`lock_integrity`]: governing gapping, slip and guide-bar margins;
 //! - [`separation`]: exit speed, tip-off, clearing the bars, re-contact, Monte Carlo bounds;
-//! - [`test_data`]: random control tolerance and pre/post signatures.
+//! - [`test_data`]: random control tolerance and pre/post signatures;
+//! - [`summary`]: the governing gate of each family.
 
 pub mod frequency;
 pub mod lock_integrity;
 pub mod separation;
+pub mod summary;
 pub mod test_data;
 pub mod verdict;
 
-pub use verdict::{Verdict, above, at_least, at_most, margin_of_safety};
+pub use verdict::{Group, Verdict, above, at_least, at_most, margin_of_safety};

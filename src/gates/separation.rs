@@ -6,8 +6,9 @@ use super::verdict::{Verdict, above, at_least, at_most};
 use crate::separation::{MonteCarloResult, SeparationResult};
 use crate::spec::GatesSpec;
 
-const LIMITS_SOURCE: &str = "[gates]; defaults are assumptions documented in spec::qualify";
-const NO_RECONTACT: &str = "no re-contact after release";
+const LIMITS_SOURCE: &str = "[gates] limits; default ASSUMPTION: exit speed ≥ 0.2 m/s and tip-off ≤ 2.5 deg/s, below the paper's measured 0.25–0.35 m/s and its first satellite's accepted 2.47 deg/s (§4, §5.2)";
+const NO_RECONTACT: &str =
+    "ASSUMPTION: satellites must not touch again after release (collision-free deployment)";
 
 /// What the gates need of one satellite's nominal release.
 #[derive(Debug, Clone, Copy)]
@@ -45,21 +46,24 @@ pub fn satellite(exit: &Exit, max_time_s: f64, limits: &GatesSpec) -> [Verdict; 
             exit.speed_m_s,
             limits.min_separation_speed_m_s,
             LIMITS_SOURCE,
-        ),
+        )
+        .with_unit("m/s"),
         at_most(
             format!("satellite {i} tip-off rate at bar exit [deg/s]"),
             exit.tipoff_rate_deg_s,
             limits.max_tipoff_rate_deg_s,
             LIMITS_SOURCE,
-        ),
+        )
+        .with_unit("deg/s"),
         Verdict::gate(
             format!("satellite {i} clears the guide bars"),
             exit.time_s.unwrap_or(f64::NAN),
             max_time_s,
             if cleared { 1.0 } else { -1.0 },
             cleared,
-            "every satellite must leave the bars within the simulated time",
-        ),
+            "ASSUMPTION: every satellite must leave the bars within the simulated time ([separation] max_time_s)",
+        )
+        .with_unit("s"),
     ]
 }
 
@@ -71,6 +75,7 @@ pub fn clearance(min_clearance_m: f64) -> Verdict {
         0.0,
         NO_RECONTACT,
     )
+    .with_unit("m")
 }
 
 /// The Monte Carlo's 3σ bounds: P0.27 exit speed, P99.73 tip-off rate, P0.27 clearance.
@@ -81,19 +86,22 @@ pub fn monte_carlo(mc: &MonteCarloResult, limits: &GatesSpec) -> [Verdict; 3] {
             mc.final_speed_m_s.p0_27,
             limits.min_separation_speed_m_s,
             LIMITS_SOURCE,
-        ),
+        )
+        .with_unit("m/s"),
         at_most(
             "Monte Carlo P99.73 tip-off rate [deg/s]",
             mc.tip_off_rate_deg_s.p99_73,
             limits.max_tipoff_rate_deg_s,
             LIMITS_SOURCE,
-        ),
+        )
+        .with_unit("deg/s"),
         above(
             "Monte Carlo P0.27 inter-satellite clearance [m]",
             mc.min_clearance_m.p0_27,
             0.0,
             NO_RECONTACT,
-        ),
+        )
+        .with_unit("m"),
     ]
 }
 

@@ -1,7 +1,7 @@
 //! Test-data gates: the random control against its profile (GSFC-STD-7000 tolerances), and
 //! the pre/post-test signatures mode by mode.
 
-use super::verdict::{Verdict, at_most};
+use super::verdict::{Group, Verdict, at_most};
 use crate::signal::{SignatureReport, ToleranceReport};
 use crate::spec::GatesSpec;
 
@@ -21,13 +21,17 @@ pub fn random_control(log: &str, rep: &ToleranceReport, limits: &GatesSpec) -> [
             -outside,
             outside == 0.0,
             "GSFC-STD-7000 random test tolerance, [gates] abort_db",
-        ),
+        )
+        .in_group(Group::TestData)
+        .with_unit("%"),
         at_most(
             format!("{log}: control Grms departure from the profile [%]"),
             rep.grms_error_pct.abs(),
             limits.grms_tolerance_pct,
             "GSFC-STD-7000 Grms tolerance, [gates] grms_tolerance_pct",
-        ),
+        )
+        .in_group(Group::TestData)
+        .with_unit("%"),
     ]
 }
 
@@ -39,14 +43,17 @@ pub fn signature(rep: &SignatureReport, limits: &GatesSpec) -> Vec<Verdict> {
         let name = format!("signature mode {} ({:.2} Hz)", m.mode, m.before_hz);
         match (m.shift_pct, m.amplitude_change_pct) {
             (Some(shift), Some(amp)) => out.extend(mode_changes(&name, shift, amp, limits)),
-            _ => out.push(Verdict::gate(
-                format!("{name}: found after the test"),
-                f64::NAN,
-                0.0,
-                -1.0,
-                false,
-                m.reason.clone(),
-            )),
+            _ => out.push(
+                Verdict::gate(
+                    format!("{name}: found after the test"),
+                    f64::NAN,
+                    0.0,
+                    -1.0,
+                    false,
+                    m.reason.clone(),
+                )
+                .in_group(Group::TestData),
+            ),
         }
     }
     out
@@ -60,13 +67,17 @@ pub fn mode_changes(name: &str, shift_pct: f64, amp_pct: f64, limits: &GatesSpec
             shift_pct.abs(),
             limits.max_frequency_shift_pct,
             "GSFC-STD-7000 practice, [gates] max_frequency_shift_pct",
-        ),
+        )
+        .in_group(Group::TestData)
+        .with_unit("%"),
         at_most(
             format!("{name}: amplitude change [%]"),
             amp_pct.abs(),
             limits.max_amplitude_change_pct,
             "GSFC-STD-7000 practice, [gates] max_amplitude_change_pct",
-        ),
+        )
+        .in_group(Group::TestData)
+        .with_unit("%"),
     ]
 }
 

@@ -5,7 +5,7 @@ use super::plan::{Plan, SeparationPlan};
 use super::workflows::{self, separate::SeparateRequest};
 use super::{Progress, comparison, provenance};
 use crate::error::Error;
-use crate::gates::{self, Verdict};
+use crate::gates::{self, Group, Verdict};
 use crate::response::SceneResponse;
 use crate::results::{
     ModalSummary, PaperComparison, Provenance, Qualification, SeparationSummary, TestDataSummary,
@@ -18,6 +18,14 @@ struct Findings {
     ran: Vec<String>,
     gates: Vec<Verdict>,
     comparison: Vec<PaperComparison>,
+}
+
+impl Findings {
+    /// Adds the gates of one family's rules, every one of them in `group`.
+    fn extend_group(&mut self, group: Group, gates: impl IntoIterator<Item = Verdict>) {
+        self.gates
+            .extend(gates.into_iter().map(|g| g.in_group(group)));
+    }
 }
 
 /// Plans the analyses the scene asks for, runs each once, and gates the results.
@@ -127,15 +135,15 @@ fn separation(
     found.ran.push("separation".into());
     let limits = &plan.limits;
     let max_time = run.model.max_time_s;
-    found
-        .gates
-        .extend(gates::separation::nominal(&run.result, max_time, limits));
+    let nominal = gates::separation::nominal(&run.result, max_time, limits);
+    found.extend_group(Group::Separation, nominal);
     if let (Some(mc), Some(p)) = (&run.monte_carlo, sep.monte_carlo) {
         let what = format!("separation Monte Carlo ({} runs, seed {})", p.runs, p.seed);
         found.ran.push(what);
-        found
-            .gates
-            .extend(gates::separation::monte_carlo(mc, limits));
+        found.extend_group(
+            Group::Separation,
+            gates::separation::monte_carlo(mc, limits),
+        );
     }
     found.comparison.extend(comparison::separation(&run.result));
     let summary = SeparationSummary {
@@ -158,7 +166,7 @@ fn test_data(
     progress.stage("test data");
     let loc = scene.locator();
     let (summary, verdicts) = workflows::test_data::run(&plan.test_logs, &plan.limits, &loc)?;
-    found.gates.extend(verdicts);
+    found.extend_group(Group::TestData, verdicts);
     found.ran.push("test data".into());
     Ok(Some(summary))
 }

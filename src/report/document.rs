@@ -39,6 +39,9 @@ pub enum Block {
     Table(Table),
     /// Figures one after the other, each with its caption.
     Figures(Vec<Figure>),
+    /// A table folded under a one-line summary (`<details>` in both formats), for the rows
+    /// an aggregated table stands for.
+    Details(String, Table),
 }
 
 /// The verdict of the whole qualification.

@@ -3,11 +3,12 @@
 
 use super::document::{Align, Block, Document, Figure, ListItem, Span, Table, Text, VerdictLine};
 
-const STYLE: &str = "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}
+const STYLE: &str = "body{font-family:sans-serif;max-width:1300px;margin:1em auto;color:#222}
+details{margin:.5em 0} summary{cursor:pointer;color:#036}
 table{border-collapse:collapse;margin:1em 0;font-size:90%}
 td,th{border:1px solid #bbb;padding:3px 8px}
 th{background:#eee}
-td.num{text-align:right}
+td.num{text-align:right;white-space:nowrap}
 tr.fail td{color:#b00;font-weight:bold;background:#fee}
 .verdict{font-size:150%;padding:.5em;border:2px solid}
 .pass{color:#060;border-color:#060}
@@ -51,6 +52,11 @@ fn block(b: &Block) -> String {
         Block::List(items) => format!("<ul>\n{}</ul>\n", list_items(items)),
         Block::Table(t) => table(t),
         Block::Figures(figs) => figs.iter().map(figure).collect(),
+        Block::Details(summary, t) => format!(
+            "<details><summary>{}</summary>\n{}</details>\n",
+            esc(summary),
+            table(t)
+        ),
     }
 }
 

@@ -25,6 +25,12 @@ fn block(b: &Block) -> String {
         Block::List(items) => items.iter().map(list_item).collect(),
         Block::Table(t) => table(t),
         Block::Figures(figs) => figs.iter().map(figure).collect(),
+        // GitHub and most viewers render Markdown inside <details> after a blank line.
+        Block::Details(summary, t) => format!(
+            "<details><summary>{}</summary>\n\n{}\n</details>\n",
+            summary.replace('<', "&lt;"),
+            table(t)
+        ),
     }
 }
 

@@ -20,7 +20,7 @@
 //! for stresses) and `limit` the allowable it is compared with.
 
 use super::outputs::{BarStation, InterfaceOut};
-use crate::gates::Verdict;
+use crate::gates::{Group, Verdict};
 use crate::spec::analysis::MarginsSpec;
 
 /// Margins above this are reported as this value (no meaningful load on that path).
@@ -32,12 +32,20 @@ fn margin(name: String, kind: &str, case: &str, value: f64, limit: f64, source: 
     } else {
         MARGIN_CAP
     };
+    // Bar margins compare stresses, joint margins forces.
+    let (group, unit) = if kind.starts_with("bar") {
+        (Group::BarStrength, "Pa")
+    } else {
+        (Group::LockIntegrity, "N")
+    };
     Verdict {
         name,
+        group: Some(group),
         kind: kind.into(),
         load_case: case.into(),
         value,
         limit,
+        unit: unit.into(),
         margin: m,
         pass: m > 0.0,
         source,

@@ -2,6 +2,7 @@
 //! assembled here in reading order.
 
 mod analyses;
+mod cause;
 mod gates;
 mod joint_loads;
 mod modes;
@@ -47,6 +48,16 @@ fn number(v: f64) -> String {
         format!("{v:.4e}")
     } else {
         format!("{v:.4}")
+    }
+}
+
+/// A value with its unit for a table; stresses in MPa, which reads better than Pa.
+fn quantity(v: f64, unit: &str) -> String {
+    match unit {
+        "" => number(v),
+        "Pa" => format!("{} MPa", number(v / 1e6)),
+        _ if !v.is_finite() => number(v),
+        _ => format!("{} {unit}", number(v)),
     }
 }
 
@@ -128,7 +139,8 @@ mod tests {
         assert_eq!(md_headings, expected);
         assert_eq!(html_headings, expected);
         for shown in [
-            "failed: first lateral frequency",
+            "Governing gates",
+            "first lateral frequency",
             "rigid platform",
             "table 1",
         ] {
@@ -136,5 +148,9 @@ mod tests {
         }
         assert!(md.contains("**Verdict: FAIL** — 2 gates, 1 failed."));
         assert!(html.contains("<tr class=\"fail\"><td>first lateral frequency</td>"));
+        assert!(
+            html.find("Governing gates") < html.find("<h2>"),
+            "governing gates come first"
+        );
     }
 }

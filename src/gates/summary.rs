@@ -1,0 +1,86 @@
+//! The governing gate of each family: the one an engineer reads first. A failed gate governs
+//! over any passed one; among equals the smallest margin governs (the first listed on a tie).
+
+use super::verdict::{Group, Verdict};
+use std::cmp::Ordering;
+
+/// One family's count of gates and its governing gate.
+#[derive(Debug, Clone, Copy)]
+pub struct Family<'a> {
+    /// `None` gathers verdicts no rule assigned to a family.
+    pub group: Option<Group>,
+    pub governing: &'a Verdict,
+    pub failed: usize,
+    pub total: usize,
+}
+
+/// Orders `a` before `b` when it is the more critical: failed first, then smaller margin.
+pub fn more_critical(a: &Verdict, b: &Verdict) -> Ordering {
+    a.pass.cmp(&b.pass).then(a.margin.total_cmp(&b.margin))
+}
+
+/// The margin as a reader wants it: a percentage when it is relative, in the value's unit
+/// when it is absolute (a zero limit, where the margin is value − limit; see `verdict`).
+pub fn margin_text(g: &Verdict) -> String {
+    if !g.margin.is_finite() {
+        "–".into()
+    } else if g.limit == 0.0 && !g.unit.is_empty() && g.unit != "%" {
+        format!("{:+.4} {}", g.margin, g.unit)
+    } else {
+        format!("{:+.1}%", g.margin * 100.0)
+    }
+}
+
+/// Every family that has gates, in the order of [`Group::ALL`] (unassigned verdicts last).
+pub fn families(gates: &[Verdict]) -> Vec<Family<'_>> {
+    let groups = Group::ALL.iter().map(|g| Some(*g)).chain([None]);
+    groups
+        .filter_map(|group| {
+            let members: Vec<&Verdict> = gates.iter().filter(|g| g.group == group).collect();
+            let governing = members.iter().copied().min_by(|a, b| more_critical(a, b))?;
+            Some(Family {
+                group,
+                governing,
+                failed: members.iter().filter(|g| !g.pass).count(),
+                total: members.len(),
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gates::{at_least, at_most};
+
+    /// A failed gate governs its family even when a passed one has a smaller margin (a
+    /// failing zero-limit gate can carry margin −0.001 while a passing one carries −1 never,
+    /// but margins of different definitions need not compare); families keep Group::ALL order.
+    #[test]
+    fn the_failed_smallest_margin_gate_governs_each_family() {
+        let gates = vec![
+            at_most("rate", 1.0, 2.0, "t").in_group(Group::Separation),
+            at_least("f x", 12.0, 10.0, "t").in_group(Group::Frequency),
+            at_least("f y", 11.0, 10.0, "t").in_group(Group::Frequency),
+            at_least("speed", 0.1, 0.2, "t").in_group(Group::Separation),
+        ];
+        let f = families(&gates);
+        assert_eq!(f.len(), 2);
+        assert_eq!(f[0].group, Some(Group::Frequency));
+        assert_eq!(
+            (f[0].governing.name.as_str(), f[0].failed, f[0].total),
+            ("f y", 0, 2)
+        );
+        assert_eq!(f[1].group, Some(Group::Separation));
+        assert_eq!((f[1].governing.name.as_str(), f[1].failed), ("speed", 1));
+    }
+
+    /// 12/10 − 1 = +20.0%; a clearance above a 0 m limit has the absolute margin 0.5872 m.
+    #[test]
+    fn relative_margins_print_as_percent_and_absolute_ones_in_their_unit() {
+        let f = at_least("f", 12.0, 10.0, "t").with_unit("Hz");
+        assert_eq!(margin_text(&f), "+20.0%");
+        let c = crate::gates::above("gap", 0.5872, 0.0, "t").with_unit("m");
+        assert_eq!(margin_text(&c), "+0.5872 m");
+    }
+}
