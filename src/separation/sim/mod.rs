@@ -40,6 +40,7 @@ mod fixture;
 mod forces;
 mod frames;
 mod layout;
+mod line_contact;
 mod locate;
 mod points;
 mod records;
