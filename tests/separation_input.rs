@@ -104,6 +104,17 @@ fn line_contact_points_out_of_range() {
 }
 
 #[test]
+fn bore_longer_than_its_column() {
+    let t = paper_text().replace("bore_length_m = 0.55", "bore_length_m = 0.6");
+    check(
+        &t,
+        "separation.contact.bore_length_m",
+        "bore_length_m",
+        "longer than its column",
+    );
+}
+
+#[test]
 fn stroke_not_positive() {
     for bad in ["0.0", "-0.08"] {
         let t = paper_text().replace("stroke_m = 0.0803", &format!("stroke_m = {bad}"));

@@ -151,6 +151,10 @@ pub struct ContactSpec {
     /// Radial clearance bore–bar, m. Default: from `[stack]`, (bore − bar diameter)/2.
     #[serde(default)]
     pub clearance_m: Option<f64>,
+    /// Length of the bore that guides a satellite on its bar (between its two contact
+    /// edges, centred on the column), m. Default: the column height, `stack.satellite_pitch_m`.
+    #[serde(default)]
+    pub bore_length_m: Option<f64>,
     /// Floor of the latched impact speed δ̇⁻, m/s: a grazing contact would otherwise get an
     /// unbounded damping coefficient (eq. 34 divides by δ̇⁻).
     #[serde(default = "defaults::min_impact_speed_m_s")]
@@ -189,6 +193,7 @@ impl Default for ContactSpec {
             v0_m_s: defaults::v0_m_s(),
             v1_m_s: defaults::v1_m_s(),
             clearance_m: None,
+            bore_length_m: None,
             min_impact_speed_m_s: defaults::min_impact_speed_m_s(),
             model: ContactModel::default(),
             line_stiffness_n_m2: defaults::line_stiffness_n_m2(),
@@ -440,6 +445,18 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
                     ),
                 ));
             }
+        }
+    }
+    if let Some(l) = spec.contact.bore_length_m {
+        pos("separation.contact.bore_length_m", l)?;
+        if l > stack.satellite_pitch_m {
+            return Err(loc.err(
+                "separation.contact.bore_length_m",
+                format!(
+                    "the bore ({l} m) is longer than its column (stack.satellite_pitch_m = {} m)",
+                    stack.satellite_pitch_m
+                ),
+            ));
         }
     }
     // Timing and integrator.

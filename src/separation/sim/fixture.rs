@@ -40,6 +40,7 @@ pub fn two_satellites() -> Model {
         carrier: None,
         columns_xy: [[0.5, 0.4], [-0.5, 0.4], [-0.5, -0.4], [0.5, -0.4]],
         pitch_m: 0.5,
+        bore_length_m: 0.5,
         bore_radius_m: 0.0105,
         clearance_m: 1e-3,
         bar_length_m: 1.5,
