@@ -90,6 +90,31 @@ fn restitution_outside_zero_one() {
 }
 
 #[test]
+fn line_contact_points_out_of_range() {
+    let t = paper_text().replace("v1_m_s = 1.0e-2", "v1_m_s = 1.0e-2\nline_points = 7");
+    check(
+        &t,
+        "separation.contact.line_points",
+        "line_points",
+        "must lie in 1..=6",
+    );
+    let t = paper_text().replace("v1_m_s = 1.0e-2", "v1_m_s = 1.0e-2\nmodel = \"lines\"");
+    let e = spec_error(&t);
+    assert!(e.to_string().contains("model"), "{e}");
+}
+
+#[test]
+fn bore_longer_than_its_column() {
+    let t = paper_text().replace("bore_length_m = 0.55", "bore_length_m = 0.6");
+    check(
+        &t,
+        "separation.contact.bore_length_m",
+        "bore_length_m",
+        "longer than its column",
+    );
+}
+
+#[test]
 fn stroke_not_positive() {
     for bad in ["0.0", "-0.08"] {
         let t = paper_text().replace("stroke_m = 0.0803", &format!("stroke_m = {bad}"));

@@ -7,6 +7,7 @@
 //! `sim` at the located onset event and held in [`EdgeContact`]; it is never recomputed inside
 //! integrator stages, which is what makes the LN restitution come out right.
 
+pub use crate::spec::separation::ContactModel;
 use serde::Serialize;
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -23,6 +24,12 @@ pub struct ContactParams {
     pub v1: f64,
     /// Floor of the latched impact speed, m/s.
     pub min_impact_speed: f64,
+    /// Point (bore edges) or line (distributed along the overlap) contact.
+    pub model: ContactModel,
+    /// Line contact: force per unit length per unit penetration, N/m².
+    pub line_stiffness: f64,
+    /// Line contact: Gauss–Legendre points per edge share of the overlap.
+    pub line_points: usize,
 }
 
 impl ContactParams {
@@ -181,6 +188,9 @@ mod tests {
             v0: 1e-4,
             v1: 1e-2,
             min_impact_speed: 1e-4,
+            model: ContactModel::Point,
+            line_stiffness: 1e10,
+            line_points: 4,
         }
     }
 

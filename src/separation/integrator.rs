@@ -394,6 +394,29 @@ impl Dopri5 {
         }
     }
 
+    /// The dense output at `t` of the components in `range` only (an event that reads a few
+    /// bodies needs no more); each component is the same expression as in [`Self::dense`].
+    pub fn dense_part(&self, t: f64, out: &mut [f64], range: std::ops::Range<usize>) {
+        let h = self.h_last;
+        if h == 0.0 {
+            out[range.clone()].copy_from_slice(&self.y[range]);
+            return;
+        }
+        let th = (t - self.t_prev) / h;
+        let th1 = 1.0 - th;
+        let [r0, r1, r2, r3, r4] = &self.rcont;
+        let (r0, r1, r2, r3, r4) = (
+            &r0[range.clone()],
+            &r1[range.clone()],
+            &r2[range.clone()],
+            &r3[range.clone()],
+            &r4[range.clone()],
+        );
+        for (i, o) in out[range].iter_mut().enumerate() {
+            *o = r0[i] + th * (r1[i] + th1 * (r2[i] + th * (r3[i] + th1 * r4[i])));
+        }
+    }
+
     /// Replaces the last accepted step by an exact step from its start to `t_target`
     /// (t_prev < t_target ≤ t): the 5th-order solution at an event, not the interpolant.
     pub fn retake<F: FnMut(f64, &[f64], &mut [f64])>(&mut self, f: &mut F, t_target: f64) {

@@ -76,6 +76,8 @@ pub struct Model {
     pub columns_xy: [[f64; 2]; 4],
     /// Height of one satellite's columns = stack pitch, m.
     pub pitch_m: f64,
+    /// Guided length of a column's bore (its two contact edges), centred on the column, m.
+    pub bore_length_m: f64,
     pub bore_radius_m: f64,
     /// Radial clearance bore − bar, m.
     pub clearance_m: f64,
@@ -214,6 +216,7 @@ impl Model {
             }),
             columns_xy: stack.column_xy(),
             pitch_m: stack.satellite_pitch_m,
+            bore_length_m: c.bore_length_m.unwrap_or(stack.satellite_pitch_m),
             bore_radius_m: 0.5 * stack.column_inner_diameter_m.max(stack.bar_diameter_m),
             clearance_m: c.clearance_m.unwrap_or_else(|| stack.radial_clearance_m()),
             bar_length_m: stack.bar_length_m,
@@ -227,6 +230,9 @@ impl Model {
                 v0: c.v0_m_s,
                 v1: c.v1_m_s,
                 min_impact_speed: c.min_impact_speed_m_s,
+                model: c.model,
+                line_stiffness: c.line_stiffness_n_m2,
+                line_points: c.line_points,
             },
             springs,
             release_times_s: times[1..].to_vec(),

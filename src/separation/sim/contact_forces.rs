@@ -4,6 +4,7 @@
 //! carrier, and the generalised forces on the bar modes.
 
 use super::super::body::V3;
+use super::super::contact::ContactModel;
 use super::Sim;
 use super::edges::EdgeKin;
 use super::forces::Loads;
@@ -29,6 +30,12 @@ impl Sim<'_> {
             // pre-screen would only compute δ twice more.
             let ek = self.edge_kin(y, c0, &frames[i], i, j, k, false);
             if ek.delta <= 0.0 || ek.z < 0.0 || ek.z > len {
+                continue;
+            }
+            if c.model == ContactModel::Line && !self.edges[ei ^ 1].past_tip {
+                let (pc, pf) = self.line_loads(y, ei, &ek, loads, q_gen);
+                p_contact += pc;
+                p_fric += pf;
                 continue;
             }
             let v_imp = ec.impact_speed.unwrap_or(c.min_impact_speed);
@@ -63,7 +70,7 @@ impl Sim<'_> {
     /// tangential sliding velocity relative to the deflecting bar; its reaction on the bar
     /// goes into `bar_f`. Returns the dissipated power, or `None` below the sticking speed
     /// (where the regularised friction vanishes).
-    fn friction_load(
+    pub(super) fn friction_load(
         &self,
         ek: &EdgeKin,
         i: usize,

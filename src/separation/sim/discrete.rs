@@ -5,7 +5,7 @@
 //! edges whose force the right-hand side evaluates.
 
 use super::super::body::{BODY_STATES, v3_at};
-use super::super::contact::ContactState;
+use super::super::contact::{ContactModel, ContactState};
 use super::Sim;
 
 fn is_touching(state: ContactState) -> bool {
@@ -68,10 +68,19 @@ impl Sim<'_> {
     /// contact's elastic energy), and the satellite's exit is recorded when it was its last.
     fn edge_past_tip(&mut self, y: &[f64], t: f64, ei: usize) {
         let (delta, _) = self.kin_of(y, ei);
+        let line = self.m.contact.model == ContactModel::Line;
+        // A line contact's bore loses its chord: its other edge falls back to the point law.
+        if line && !self.edges[ei ^ 1].past_tip {
+            let before = self.bore_elastic_energy(y, ei);
+            self.edges[ei].past_tip = true;
+            self.tip_cut_loss += before - self.bore_elastic_energy(y, ei);
+        }
         let e = &mut self.edges[ei];
         e.past_tip = true;
         if is_touching(e.state) {
-            self.tip_cut_loss += self.m.contact.elastic_energy(delta);
+            if !line {
+                self.tip_cut_loss += self.m.contact.elastic_energy(delta);
+            }
             self.transitions.record(e.state, ContactState::Detached);
             e.state = ContactState::Detached;
             e.impact_speed = None;
@@ -81,6 +90,20 @@ impl Sim<'_> {
             let o = BODY_STATES * (i + 1);
             self.exit[i] = Some((t, v3_at(y, o + 7), v3_at(y, o + 10)));
         }
+    }
+
+    /// Elastic energy of the edges of the bore of edge `ei` that have not left the bar (the
+    /// edge at the tip included: its share is cut off there).
+    fn bore_elastic_energy(&self, y: &[f64], ei: usize) -> f64 {
+        let (i, j, _) = Self::edge_index(ei);
+        let (c0, s) = (self.frame(y, 0), self.frame(y, i));
+        (0..2)
+            .filter(|&k| !self.edges[(ei & !1) + k].past_tip)
+            .map(|k| {
+                let ek = self.edge_kin(y, &c0, &s, i, j, k, false);
+                self.edge_elastic_energy(y, (ei & !1) + k, ek)
+            })
+            .sum()
     }
 
     /// Contact-state maintenance at the step end (eq. 38) for the edges without an event;

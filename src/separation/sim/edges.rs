@@ -14,6 +14,10 @@ pub(super) struct EdgeKin {
     pub(super) delta_dot: f64,
     /// Unit normal (carrier frame, horizontal) from the bore centre towards the bar.
     pub(super) n: [f64; 2],
+    /// Offset from the edge point to the bar centreline and its rate (carrier x, y): the
+    /// line contact interpolates them along the bore.
+    pub(super) e: [f64; 2],
+    pub(super) edot: [f64; 2],
     /// Height in the carrier frame.
     pub(super) z: f64,
     pub(super) p: V3,
@@ -32,6 +36,8 @@ impl EdgeKin {
             delta: -f64::MIN_POSITIVE,
             delta_dot: 0.0,
             n: [0.0; 2],
+            e: [0.0; 2],
+            edot: [0.0; 2],
             z,
             p: V3::zeros(),
             vp: V3::zeros(),
@@ -229,6 +235,8 @@ impl Sim<'_> {
             delta,
             delta_dot: 0.0,
             n: [0.0; 2],
+            e,
+            edot: [0.0; 2],
             z: pl[2],
             p: r.p,
             vp: r.vp,
@@ -255,8 +263,11 @@ impl Sim<'_> {
             [0.0, 0.0]
         };
         ek.n = n;
-        ek.delta_dot = n[0] * (udot[0] + slope[0] * vrel[2] - vrel[0])
-            + n[1] * (udot[1] + slope[1] * vrel[2] - vrel[1]);
+        ek.edot = [
+            udot[0] + slope[0] * vrel[2] - vrel[0],
+            udot[1] + slope[1] * vrel[2] - vrel[1],
+        ];
+        ek.delta_dot = n[0] * ek.edot[0] + n[1] * ek.edot[1];
         ek
     }
 }

@@ -4,7 +4,9 @@
 //! difference, the residual, measures the integration error.
 
 use super::super::body::{BODY_STATES, v3_at};
+use super::super::contact::ContactModel;
 use super::Sim;
+use super::edges::EdgeKin;
 use super::frames::Frame;
 use super::results::EnergyAudit;
 
@@ -80,12 +82,29 @@ impl Sim<'_> {
                     }
                     let ek = self.edge_kin(y, &frames[0], &frames[i], i, j, k, true);
                     if ek.z >= 0.0 && ek.z <= self.m.bar_length_m {
-                        elastic += self.m.contact.elastic_energy(ek.delta);
+                        elastic += self.edge_elastic_energy(y, (i - 1) * 8 + j * 2 + k, ek);
                     }
                 }
             }
         }
         elastic
+    }
+}
+
+impl Sim<'_> {
+    /// Elastic energy of the contact of edge `ei` with penetration `ek.delta` (only δ is
+    /// known when it does not touch): the point law's, or its share of a line contact while
+    /// the other edge of its bore is on the bar.
+    pub(super) fn edge_elastic_energy(&self, y: &[f64], ei: usize, ek: EdgeKin) -> f64 {
+        if ek.delta <= 0.0 {
+            return 0.0;
+        }
+        if self.m.contact.model == ContactModel::Line && !self.edges[ei ^ 1].past_tip {
+            let (i, j, k) = Self::edge_index(ei);
+            let ek = self.edge_kin(y, &self.frame(y, 0), &self.frame(y, i), i, j, k, false);
+            return self.line_elastic_energy(y, ei, &ek);
+        }
+        self.m.contact.elastic_energy(ek.delta)
     }
 }
 

@@ -3,6 +3,7 @@
 //! each spring minus its end of action. An event is live only in the discrete state where its
 //! crossing changes something (see [`Sim::crossed`]).
 
+use super::super::body::BODY_STATES;
 use super::super::contact::ContactState;
 use super::Sim;
 use super::frames::Frame;
@@ -49,10 +50,30 @@ impl Sim<'_> {
         }
     }
 
+    /// The parts of the state that event `idx` reads: an edge event its carrier, its satellite
+    /// and the bar modes; a spring event every body (it is rare: once per spring). Root
+    /// location fills only these from the dense output.
+    pub(super) fn event_state_parts(&self, idx: usize) -> [std::ops::Range<usize>; 3] {
+        if idx < 16 * self.n {
+            let b = BODY_STATES * ((idx % (8 * self.n)) / 8 + 1);
+            [
+                0..BODY_STATES,
+                b..b + BODY_STATES,
+                self.bar_off..self.en_off,
+            ]
+        } else {
+            [0..self.dim, 0..0, 0..0]
+        }
+    }
+
     /// All event values into `g`, and the rate δ̇ of every edge's penetration into `gd` (for
     /// the hidden-contact test). Every edge is evaluated exactly (δ and δ̇), touching or not.
     pub(super) fn events(&self, y: &[f64], g: &mut [f64], gd: &mut [f64]) {
-        let frames = self.frames(y);
+        // The right-hand side's frame buffer: the same frames `frames(y)` gives, without
+        // an allocation per step.
+        let mut sc = self.scratch.borrow_mut();
+        self.update_frames(y, &mut sc.frames);
+        let frames = &sc.frames;
         let n8 = 8 * self.n;
         for ei in 0..n8 {
             // `crossed`, the hidden-contact test and the state maintenance skip an edge past
@@ -66,7 +87,7 @@ impl Sim<'_> {
             g[n8 + ei] = z - self.m.bar_length_m;
         }
         for (idx, gi) in g.iter_mut().enumerate().skip(2 * n8) {
-            *gi = self.event_value(y, idx, &frames);
+            *gi = self.event_value(y, idx, frames);
         }
     }
 

@@ -2,7 +2,7 @@
 //! here, so a test can derive its reference values by hand from them.
 
 use super::super::bar::ModalBar;
-use super::super::contact::ContactParams;
+use super::super::contact::{ContactModel, ContactParams};
 use super::super::params::{Model, SatelliteParams, SpringParams};
 use crate::spec::Material;
 use crate::spec::separation::DispersionSpec;
@@ -40,6 +40,7 @@ pub fn two_satellites() -> Model {
         carrier: None,
         columns_xy: [[0.5, 0.4], [-0.5, 0.4], [-0.5, -0.4], [0.5, -0.4]],
         pitch_m: 0.5,
+        bore_length_m: 0.5,
         bore_radius_m: 0.0105,
         clearance_m: 1e-3,
         bar_length_m: 1.5,
@@ -53,6 +54,9 @@ pub fn two_satellites() -> Model {
             v0: 1e-4,
             v1: 1e-3,
             min_impact_speed: 1e-4,
+            model: ContactModel::Point,
+            line_stiffness: 1e10,
+            line_points: 4,
         },
         springs,
         release_times_s: vec![None, None],

@@ -66,7 +66,7 @@ impl Sim<'_> {
 
     /// The frames at `y` into `frames`. The frames of bodies that do not move stay from call
     /// to call (`rebuild_static` empties the buffer when the set changes).
-    fn update_frames(&self, y: &[f64], frames: &mut Vec<Frame>) {
+    pub(super) fn update_frames(&self, y: &[f64], frames: &mut Vec<Frame>) {
         let nb = self.n + 1;
         if frames.len() != nb {
             frames.clear();

@@ -88,7 +88,9 @@ impl Sim<'_> {
         let (g0, g1) = (st.g0[idx], st.g1[idx]);
         let th = hidden_contact(g0, st.gd0[idx], g1, st.gd1[idx], t1 - t0)?;
         let tm = t0 + th * (t1 - t0);
-        st.ig.dense(tm, &mut st.ybuf);
+        for part in self.event_state_parts(idx) {
+            st.ig.dense_part(tm, &mut st.ybuf, part);
+        }
         let gm = self.event_value_at(&st.ybuf, idx);
         (gm >= 0.0).then(|| self.locate(&st.ig, idx, t0, tm, g0, gm, &mut st.ybuf))
     }
@@ -138,7 +140,9 @@ impl Sim<'_> {
             if !(t > a && t < b) {
                 t = 0.5 * (a + b);
             }
-            ig.dense(t, buf);
+            for part in self.event_state_parts(idx) {
+                ig.dense_part(t, buf, part);
+            }
             let g = self.event_value_at(buf, idx);
             let crossed_here = if g0 < 0.0 { g >= 0.0 } else { g <= 0.0 };
             if crossed_here {

@@ -40,6 +40,7 @@ mod fixture;
 mod forces;
 mod frames;
 mod layout;
+mod line_contact;
 mod locate;
 mod points;
 mod records;
@@ -79,6 +80,8 @@ struct Sim<'a> {
     dim: usize,
     /// Body-frame edge points (relative to the CG) per satellite: [column][bottom, top].
     edge_body: Vec<[[V3; 2]; 4]>,
+    /// Body-frame column ends per satellite: [column][bottom, top] (the axial gaps).
+    column_ends: Vec<[[V3; 2]; 4]>,
     /// Per spring: the spring point on the upper body and on the lower body, each in its frame.
     spring_up: Vec<V3>,
     spring_low: Vec<V3>,
@@ -129,6 +132,7 @@ impl<'a> Sim<'a> {
             en_off,
             dim: en_off + 3,
             edge_body: points::edge_points(m),
+            column_ends: points::column_end_points(m),
             spring_up,
             spring_low,
             free: vec![false; n + 1],

@@ -6,9 +6,20 @@ use super::super::body::V3;
 use super::super::params::Model;
 
 /// Edge points per satellite, relative to its CG: `[column][bottom, top]`. A satellite's
-/// column segment is one pitch high and centred on the satellite's origin.
+/// column segment is one pitch high and centred on the satellite's origin; its guided bore
+/// (`bore_length_m`) is centred on the column.
 pub(super) fn edge_points(m: &Model) -> Vec<[[V3; 2]; 4]> {
-    let hp = 0.5 * m.pitch_m;
+    column_points(m, m.bore_length_m)
+}
+
+/// The bottom and top of every column, relative to the CG: `[column][bottom, top]`.
+pub(super) fn column_end_points(m: &Model) -> Vec<[[V3; 2]; 4]> {
+    column_points(m, m.pitch_m)
+}
+
+/// Points on every column's axis at ∓`length`/2 from the satellite's origin.
+fn column_points(m: &Model, length: f64) -> Vec<[[V3; 2]; 4]> {
+    let hp = 0.5 * length;
     m.satellites
         .iter()
         .map(|s| {
@@ -66,5 +77,21 @@ mod tests {
         assert_eq!(low[0], e[1][0][1]);
         // Springs 4..8: interface 2, on the carrier's base.
         assert_eq!(low[4], V3::new(0.5, 0.4, m.base_height_m));
+    }
+
+    /// A guided bore of 0.3 m on the 0.5 m column: its edges at ±0.15 m about the column's
+    /// middle, the column ends (axial gaps) and spring seats still at ±0.25 m. Exact sums.
+    #[test]
+    fn a_short_bore_is_centred_on_its_column() {
+        let mut m = fixture::two_satellites();
+        m.bore_length_m = 0.3;
+        let c = m.satellites[0].cg_offset_m;
+        let e = edge_points(&m);
+        assert_eq!(e[0][0][0], V3::new(0.5 - c[0], 0.4 - c[1], -0.15 - c[2]));
+        assert_eq!(e[0][0][1], V3::new(0.5 - c[0], 0.4 - c[1], 0.15 - c[2]));
+        let ends = column_end_points(&m);
+        assert_eq!(ends[0][0][0], V3::new(0.5 - c[0], 0.4 - c[1], -0.25 - c[2]));
+        let (up, _) = spring_points(&m);
+        assert_eq!(up[0], ends[0][0][0]);
     }
 }

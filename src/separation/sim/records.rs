@@ -83,8 +83,8 @@ impl Sim<'_> {
         let (a, b) = (self.frame(y, k), self.frame(y, k + 1));
         (0..4)
             .map(|j| {
-                let pa = a.x + a.r * self.edge_body[k - 1][j][0];
-                let pb = b.x + b.r * self.edge_body[k][j][1];
+                let pa = a.x + a.r * self.column_ends[k - 1][j][0];
+                let pb = b.x + b.r * self.column_ends[k][j][1];
                 pa[2] - pb[2]
             })
             .fold(f64::INFINITY, f64::min)

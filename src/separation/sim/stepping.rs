@@ -197,7 +197,9 @@ impl Sim<'_> {
         }
         // Event values depend on the continuous state only: the discrete changes above
         // leave them as they are.
-        st.g0.copy_from_slice(&st.g1);
-        st.gd0.copy_from_slice(&st.gd1);
+        // Swapped, not copied: `events` rewrites every value that is read before the next
+        // step's values are (an edge past the tip keeps a stale one, which nothing reads).
+        std::mem::swap(&mut st.g0, &mut st.g1);
+        std::mem::swap(&mut st.gd0, &mut st.gd1);
     }
 }
