@@ -16,4 +16,6 @@ pub mod separation;
 pub mod test_data;
 pub mod verdict;
 
-pub use verdict::{Verdict, above, at_least, at_most, margin_of_safety};
+pub use verdict::{
+    MARGIN_CAP, Verdict, above, at_least, at_most, design_margin, margin_of_safety, strength_margin,
+};
