@@ -393,6 +393,9 @@ fn results_and_report_carry_the_input_environments_as_applied() {
     let s = &v["environments"]["sine"];
     assert_eq!(s["segments"].as_array().unwrap().len(), 2);
     assert!(s["source"].as_str().unwrap().contains("§5.1.1"));
+    // 5–100 Hz is log2(20) = 4.3219 octaves: 129.66 s at the qualification 2 oct/min.
+    assert_eq!(s["sweep_rate_oct_min"], 2.0);
+    assert!((s["duration_s"].as_f64().unwrap() - 129.658).abs() < 1e-3);
     // Every slip gate names the path that carries the joint's shear.
     for g in v["gates"].as_array().unwrap() {
         if g["name"].as_str().unwrap().starts_with("slip") {

@@ -129,7 +129,7 @@ fn environment_line(e: &satqual::spec::environment::RandomEnvironment) -> String
         parts.push(name.clone());
     }
     if let Some(l) = e.level {
-        parts.push(format!("{l:?}").to_lowercase());
+        parts.push(l.name().to_string());
     }
     if let Some(r) = &e.weight_reduction {
         parts.push(format!(

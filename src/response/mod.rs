@@ -143,6 +143,7 @@ pub fn run_scene(prep: &Prepared) -> Result<SceneResponse, Error> {
     };
     let mut out = SceneResponse::default();
     if let Some(s) = &prep.scene.file.sine {
+        out.environments.sine = Some(crate::spec::environment::SineEnvironment::of(s));
         for a in axes(&s.axes) {
             out.sine
                 .push(sine::run(prep, s, a, &SineOptions::default())?);

@@ -93,6 +93,14 @@ pub struct SineSpec {
     /// with the environment in the report.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub source: Option<String>,
+    /// The test level the segments stand for (a label: the segments are applied as given);
+    /// sets the default sweep rate.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub level: Option<super::environment::TestLevel>,
+    /// Logarithmic sweep rate, octaves per minute (reported with the sweep duration; the
+    /// steady-state peaks do not depend on it). Default: the level's rate.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep_rate_oct_min: Option<f64>,
 }
 
 impl SineSpec {
@@ -445,6 +453,14 @@ pub fn validate(
     let check_axes = axes_checker(loc);
     if let Some(s) = &file.sine {
         check_axes("sine.axes", &s.axes)?;
+        if let Some(r) = s.sweep_rate_oct_min
+            && !(r > 0.0 && r.is_finite())
+        {
+            return Err(loc.err(
+                "sine.sweep_rate_oct_min",
+                format!("must be a positive rate, got {r}"),
+            ));
+        }
         if s.segment.is_empty() {
             return Err(loc.err("sine", "the sine level needs at least one [[sine.segment]]"));
         }

@@ -39,6 +39,24 @@ impl TestLevel {
             TestLevel::Protoflight | TestLevel::Acceptance => 60.0,
         }
     }
+
+    /// Sine sweep rate, octaves per minute (GSFC-STD-7000A §2.4 test factors and durations:
+    /// 2 oct/min for qualification, 4 oct/min for protoflight and acceptance).
+    pub fn sweep_rate_oct_min(self) -> f64 {
+        match self {
+            TestLevel::Qualification => 2.0,
+            TestLevel::Protoflight | TestLevel::Acceptance => 4.0,
+        }
+    }
+
+    /// The level's name as the scene writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            TestLevel::Qualification => "qualification",
+            TestLevel::Protoflight => "protoflight",
+            TestLevel::Acceptance => "acceptance",
+        }
+    }
 }
 
 /// `[random] weight_reduction`.
@@ -228,7 +246,38 @@ pub fn unknown(name: &str) -> String {
 pub struct SineEnvironment {
     pub axes: Vec<String>,
     pub source: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub level: Option<TestLevel>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweep_rate_oct_min: Option<f64>,
+    /// One sweep through the band at that rate, per axis, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
     pub segments: Vec<super::analysis::SineSegment>,
+}
+
+impl SineEnvironment {
+    /// The sine input of `spec`: its segments as given, with the level's sweep rate and the
+    /// time of one logarithmic sweep through the band, 60·log2(f_hi/f_lo)/rate.
+    pub fn of(spec: &super::analysis::SineSpec) -> SineEnvironment {
+        let rate = spec
+            .sweep_rate_oct_min
+            .or(spec.level.map(TestLevel::sweep_rate_oct_min));
+        let (lo, hi) = spec.band();
+        SineEnvironment {
+            axes: spec.axes.clone(),
+            source: spec
+                .source
+                .clone()
+                .unwrap_or_else(|| "the scene's [[sine.segment]] levels".into()),
+            level: spec.level,
+            sweep_rate_oct_min: rate,
+            duration_s: rate
+                .filter(|_| lo > 0.0 && hi > lo)
+                .map(|r| 60.0 * (hi / lo).log2() / r),
+            segments: spec.segment.clone(),
+        }
+    }
 }
 
 /// Every input environment of a scene.
@@ -322,6 +371,31 @@ mod tests {
         );
         let e = resolve(&a, None).unwrap();
         assert!((e.grms - 5.57).abs() < 0.01, "{}", e.grms);
+    }
+
+    /// A sweep of 5–100 Hz (log2(20) = 4.3219 octaves) at the qualification rate of 2 oct/min
+    /// takes 60 · 4.3219 / 2 = 129.66 s; at 4 oct/min (acceptance) 64.83 s.
+    #[test]
+    fn a_sine_sweep_takes_the_levels_rate() {
+        let seg = |from_hz, to_hz| super::super::analysis::SineSegment {
+            from_hz,
+            to_hz,
+            acceleration_g: Some(0.3),
+            displacement_m: None,
+        };
+        let mut s = super::super::analysis::SineSpec {
+            axes: vec!["x".into()],
+            segment: vec![seg(5.0, 8.0), seg(8.0, 100.0)],
+            level: Some(TestLevel::Qualification),
+            ..Default::default()
+        };
+        let e = SineEnvironment::of(&s);
+        assert_eq!(e.sweep_rate_oct_min, Some(2.0));
+        assert!((e.duration_s.unwrap() - 129.658).abs() < 1e-3);
+        s.level = Some(TestLevel::Acceptance);
+        assert!((SineEnvironment::of(&s).duration_s.unwrap() - 64.829).abs() < 1e-3);
+        s.level = None;
+        assert_eq!(SineEnvironment::of(&s).duration_s, None);
     }
 
     #[test]

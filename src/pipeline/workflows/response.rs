@@ -59,7 +59,7 @@ pub fn scene_response(
     refuse_unsupported(scene, sys)?;
     let prep = Prepared::new(scene, model, sys)?;
     let mut environments = Environments {
-        sine: sine.map(|p| sine_environment(&p.spec)),
+        sine: sine.map(|p| SineEnvironment::of(&p.spec)),
         random: None,
     };
     let random = match random {
@@ -107,18 +107,6 @@ fn sine_axes(prep: &Prepared, plan: &AxesPlan<SineSpec>) -> Result<Vec<SineAxis>
         .iter()
         .map(|&a| response::sine::run(prep, &plan.spec, a, &opts))
         .collect()
-}
-
-/// The sine input as the scene gives it.
-fn sine_environment(spec: &SineSpec) -> SineEnvironment {
-    SineEnvironment {
-        axes: spec.axes.clone(),
-        source: spec
-            .source
-            .clone()
-            .unwrap_or_else(|| "the scene's [[sine.segment]] levels".into()),
-        segments: spec.segment.clone(),
-    }
 }
 
 /// The random analysis on every planned axis, with the input applied for the model's mass

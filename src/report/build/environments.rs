@@ -44,10 +44,17 @@ fn sine(s: &SineEnvironment) -> Vec<Block> {
             },
         ]);
     }
+    let mut what = vec![format!("axes {}", s.axes.join(", "))];
+    if let Some(l) = s.level {
+        what.push(format!("{} level", l.name()));
+    }
+    if let (Some(r), Some(d)) = (s.sweep_rate_oct_min, s.duration_s) {
+        what.push(format!("{r} oct/min, {d:.0} s per sweep and axis"));
+    }
     vec![
         Block::Paragraph(Text::plain(format!(
-            "Sine, axes {}; source: {}.",
-            s.axes.join(", "),
+            "Sine, {}; source: {}.",
+            what.join(", "),
             s.source
         ))),
         Block::Table(t),
@@ -62,7 +69,7 @@ fn random(r: &RandomEnvironment) -> Vec<Block> {
     if let Some(l) = r.level {
         what.push(format!(
             "{} level (+{:.2} dB over the table)",
-            format!("{l:?}").to_lowercase(),
+            l.name(),
             r.level_gain_db
         ));
     }
