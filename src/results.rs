@@ -76,6 +76,10 @@ pub struct Qualification {
     pub gates: Vec<Verdict>,
     pub ran: Vec<String>,
     pub skipped: Vec<Skipped>,
+    /// Every input environment as applied (sine segments, random profile with its level,
+    /// weight reduction, Grms and duration), when a response analysis ran.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub environments: Option<crate::spec::environment::Environments>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub modal: Option<ModalSummary>,
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -450,5 +450,52 @@ fn first_screen_holds_the_verdict_and_the_governing_gates() {
     if let Some(keep) = std::env::var_os("SATQUAL_SCREENSHOT") {
         std::fs::copy(&png, keep).unwrap();
     }
+}
+
+#[test]
+fn results_and_report_carry_the_input_environments_as_applied() {
+    // The shaker scene asks for the GEVS component table at qualification level with the GEVS
+    // weight reduction; its model weighs 270 kg, above the 182 kg at which GEVS holds the
+    // spectrum: plateau 0.16·22.7/182 = 0.019956 g²/Hz, 0.01 g²/Hz at 20 and 2000 Hz,
+    // 10·log10(182/22.7) = 9.0405 dB, and 5.6418 Grms by the log-log integral of those four
+    // points (by hand); 2 min per axis (GEVS qualification duration).
+    let d = tmp("env");
+    let out = d.join("report");
+    let o = qualify(Path::new("test-specs/shaker-2sat.toml"), &out, None);
+    assert!(o.status.code() == Some(0) || o.status.code() == Some(1));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let r = &v["environments"]["random"];
+    assert_eq!(r["environment"], "gevs-component");
+    assert_eq!(r["level"], "qualification");
+    assert_eq!(r["duration_s"], 120.0);
+    assert!((r["grms"].as_f64().unwrap() - 5.6418).abs() < 1e-4, "{r}");
+    let w = &r["weight_reduction"];
+    assert_eq!(w["mass_used_kg"], 182.0);
+    assert!((w["reduction_db"].as_f64().unwrap() - 9.0405).abs() < 1e-4);
+    assert!((r["profile"][1][1].as_f64().unwrap() - 0.16 * 22.7 / 182.0).abs() < 1e-15);
+    assert!(r["source"].as_str().unwrap().contains("GSFC-STD-7000A"));
+    let s = &v["environments"]["sine"];
+    assert_eq!(s["segments"].as_array().unwrap().len(), 2);
+    assert!(s["source"].as_str().unwrap().contains("§5.1.1"));
+    // 5–100 Hz is log2(20) = 4.3219 octaves: 129.66 s at the qualification 2 oct/min.
+    assert_eq!(s["sweep_rate_oct_min"], 2.0);
+    assert!((s["duration_s"].as_f64().unwrap() - 129.658).abs() < 1e-3);
+    // Every slip gate names the path that carries the joint's shear.
+    for g in v["gates"].as_array().unwrap() {
+        if g["name"].as_str().unwrap().starts_with("slip") {
+            assert!(
+                g["source"].as_str().unwrap().starts_with("load path: "),
+                "{g}"
+            );
+        }
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        md.contains("## Input environments") && md.contains("5.64 Grms"),
+        "{md}"
+    );
+    assert!(out.join("plots/environment_random.svg").exists());
+    assert!(out.join("curves/environment_sine.csv").exists());
     let _ = std::fs::remove_dir_all(&d);
 }

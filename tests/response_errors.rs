@@ -55,6 +55,16 @@ refused_input_cases! {
         contains ["key `margins.fitting_factor`", "at least 1"];
     preload_loss_above_one: "[[response]]" => "[margins]\npreload_loss = 1.5\n\n[[response]]",
         contains ["key `margins.preload_loss`"];
+    unknown_environment: "profile = [[20.0, 0.1], [2000.0, 0.1]]" => "environment = \"atlas-v\"",
+        contains ["key `random.environment`", "unknown environment `atlas-v`", "gevs-component"];
+    profile_and_environment: "profile = [[20.0, 0.1], [2000.0, 0.1]]" => "profile = [[20.0, 0.1], [2000.0, 0.1]]\nenvironment = \"gevs-component\"",
+        contains ["key `random.environment`", "either `profile` or `environment`"];
+    neither_profile_nor_environment: "profile = [[20.0, 0.1], [2000.0, 0.1]]" => "level = \"acceptance\"",
+        contains ["give a `profile`", "or a named `environment`"];
+    weight_reduction_of_an_explicit_profile: "profile = [[20.0, 0.1], [2000.0, 0.1]]" => "profile = [[20.0, 0.1], [2000.0, 0.1]]\nweight_reduction = \"gevs\"",
+        contains ["key `random.weight_reduction`", "environment = \"gevs-component\""];
+    unknown_level: "profile = [[20.0, 0.1], [2000.0, 0.1]]" => "environment = \"gevs-component\"\nlevel = \"flight\"",
+        contains ["unknown variant `flight`", "qualification"];
 }
 
 #[test]

@@ -240,6 +240,12 @@ refused_input_cases! {
         contains ["stack.bar_length_m", "shorter than the stack"];
     bar_wider_than_the_bore: "bar_diameter_m = 0.020" => "bar_diameter_m = 0.030",
         contains ["stack.bar_diameter_m", "does not fit"];
+    shear_key_of_an_unknown_material: "material = \"al7075-t6\", shear_area" => "material = \"ti\", shear_area",
+        contains ["stack.interface.shear_key.material", "material `ti` is not defined"];
+    shear_key_with_a_zero_area: "shear_area_m2 = 6.715e-4" => "shear_area_m2 = 0.0",
+        contains ["stack.interface.shear_key.shear_area_m2", "must be positive"];
+    shear_key_with_an_unknown_key: "bearing_area_m2 = 3.6e-4" => "bearing_area_m2 = 3.6e-4, length_m = 0.01",
+        contains ["unknown field `length_m`"];
 }
 
 #[test]

@@ -97,11 +97,13 @@ pub fn run() -> Result<(String, String), Error> {
     let scene = load(rs)?;
     let (model, sys) = crate::pipeline::modal(&scene, None, None)?;
     let prep = Prepared::new(&scene, &model, &sys)?;
-    let spec = scene
+    let (spec, _) = scene
         .file
         .random
-        .clone()
-        .ok_or_else(|| Error::Other(format!("{rs} has no [random]")))?;
+        .as_ref()
+        .ok_or_else(|| Error::Other(format!("{rs} has no [random]")))?
+        .applied(Some(sys.result.total_mass_kg))
+        .map_err(|e| Error::Other(format!("{rs}: {e}")))?;
     let table = spec.table();
     let (lo, hi) = (table[0].0, table[table.len() - 1].0);
     let n_ref = 400_000;

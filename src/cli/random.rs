@@ -30,6 +30,8 @@ struct Output<'a> {
     scene: String,
     damping: String,
     pass: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    environment: Option<&'a satqual::spec::environment::RandomEnvironment>,
     axes: &'a [response::RandomAxis],
 }
 
@@ -43,6 +45,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
     let mut t = String::new();
     let _ = writeln!(t, "{}: random, damping {}", args.scene.display(), damping);
+    if let Some(e) = &run.environment {
+        let _ = writeln!(t, "input: {}", environment_line(e));
+    }
     for r in results {
         let _ = writeln!(
             t,
@@ -72,6 +77,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         scene: args.scene.display().to_string(),
         damping,
         pass,
+        environment: run.environment.as_ref(),
         axes: results,
     })?;
     if let Some(dir) = &args.out {
@@ -114,4 +120,26 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     } else {
         Outcome::GateFailed
     })
+}
+
+/// One line on the random input as applied: level, reduction, Grms, duration, source.
+fn environment_line(e: &satqual::spec::environment::RandomEnvironment) -> String {
+    let mut parts = Vec::new();
+    if let Some(name) = &e.environment {
+        parts.push(name.clone());
+    }
+    if let Some(l) = e.level {
+        parts.push(l.name().to_string());
+    }
+    if let Some(r) = &e.weight_reduction {
+        parts.push(format!(
+            "GEVS weight reduction −{:.2} dB for {:.1} kg",
+            r.reduction_db, r.mass_kg
+        ));
+    }
+    parts.push(format!("{:.2} Grms", e.grms));
+    if let Some(d) = e.duration_s {
+        parts.push(format!("{d:.0} s per axis"));
+    }
+    format!("{} ({})", parts.join(", "), e.source)
 }

@@ -18,4 +18,7 @@ pub mod summary;
 pub mod test_data;
 pub mod verdict;
 
-pub use verdict::{Group, Verdict, above, at_least, at_most, margin_of_safety};
+pub use verdict::{
+    Group, MARGIN_CAP, Verdict, above, at_least, at_most, design_margin, margin_of_safety,
+    strength_margin,
+};

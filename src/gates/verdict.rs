@@ -9,6 +9,12 @@
 //! Every verdict names its family ([`Group`]) and the unit of its value and limit, set with
 //! the builders [`Verdict::in_group`] and [`Verdict::with_unit`] so that the constructors
 //! below keep their short signatures.
+//!
+//! Every strength criterion (joint gapping and slip, shear paths, guide-bar yield and ultimate)
+//! uses one convention, that of NASA-STD-5001B §4.1: MS = allowable / (FS × applied) − 1. Its
+//! verdict shows the design load FS × applied as `value` and the allowable as `limit`, so the
+//! margin can be checked from the row: margin = limit/value − 1 ([`strength_margin`],
+//! [`design_margin`]).
 
 use serde::Serialize;
 
@@ -166,9 +172,65 @@ pub fn above(
     Verdict::gate(name, value, limit, value - limit, value > limit, source)
 }
 
+/// Strength margins above this are reported as this value: the path carries no meaningful
+/// load, and an unbounded ratio would only hide the rows that matter.
+pub const MARGIN_CAP: f64 = 999.0;
+
+/// A strength margin of safety, NASA-STD-5001B §4.1: MS = allowable / (FS × applied) − 1.
+/// `value` is the design load FS × applied, `limit` the allowable (same unit); passes at
+/// MS ≥ 0. A nil applied load gives [`MARGIN_CAP`].
+pub fn strength_margin(
+    name: impl Into<String>,
+    applied: f64,
+    allowable: f64,
+    fs: f64,
+    source: impl Into<String>,
+) -> Verdict {
+    design_margin(name, fs * applied, allowable, source)
+}
+
+/// A strength margin of safety from a design load already factored, MS = allowable / design
+/// − 1: for a load that is not one applied load times one factor, such as the von Mises stress
+/// of a preloaded bar (NASA-STD-5020B §4.3.1 form: the preload at its maximum, unfactored, plus
+/// FS × the external load).
+pub fn design_margin(
+    name: impl Into<String>,
+    design: f64,
+    allowable: f64,
+    source: impl Into<String>,
+) -> Verdict {
+    let ms = if design > 1e-12 * allowable.abs().max(1e-300) {
+        (allowable / design - 1.0).min(MARGIN_CAP)
+    } else {
+        MARGIN_CAP
+    };
+    Verdict::gate(name, design, allowable, ms, ms >= 0.0, source)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Hand-computed joint: 45 kN / 4 = 11 250 N nominal preload, −10 % uncertainty and −5 %
+    /// relaxation: P_min = 11 250 · 0.9 · 0.95 = 9 618.75 N. External tension 5 000 N with
+    /// FF 1.15 and FS_sep 1.2: design 1.15 · 1.2 · 5 000 = 6 900 N, MS = 9 618.75 / 6 900 − 1
+    /// = 0.394022 (NASA-STD-5001B §4.1 convention; exact to rounding).
+    #[test]
+    fn a_strength_margin_divides_the_allowable_by_the_factored_load() {
+        let pmin = 11_250.0 * 0.9 * 0.95;
+        let v = strength_margin("gapping", 5_000.0, pmin, 1.15 * 1.2, "t");
+        assert!((v.value - 6_900.0).abs() < 1e-9);
+        assert_eq!(v.limit, pmin);
+        assert!((v.margin - (9_618.75 / 6_900.0 - 1.0)).abs() < 1e-12);
+        assert!((v.margin - 0.394022).abs() < 1e-6);
+        assert!(v.pass);
+        // The same joint at 7 000 N: design 9 660 N > 9 618.75 N, MS = −0.00427.
+        let v = strength_margin("gapping", 7_000.0, pmin, 1.15 * 1.2, "t");
+        assert!(!v.pass && (v.margin - (9_618.75 / 9_660.0 - 1.0)).abs() < 1e-12);
+        // No load on the path: the cap, a pass.
+        let v = strength_margin("slip", 0.0, 1_000.0, 1.0, "t");
+        assert!(v.pass && v.margin == MARGIN_CAP);
+    }
 
     /// Hand-computed: 12/10 − 1 = 0.2; 1 − 1/2 = 0.5; 0.03 − 0 = 0.03.
     #[test]

@@ -291,7 +291,15 @@ fn test_log(scene: &Scene, index: usize, t: &TestLogSpec) -> Result<TestLogPlan,
 fn profile(scene: &Scene, t: &TestLogSpec) -> Result<Option<Vec<(f64, f64)>>, String> {
     match (&t.profile, &t.profile_table) {
         (_, Some(tab)) => Ok(Some(tab.iter().map(|p| (p[0], p[1])).collect())),
-        (Some(p), None) if p == "random" => Ok(scene.file.random.as_ref().map(|r| r.table())),
+        (Some(p), None) if p == "random" => match &scene.file.random {
+            Some(r) => {
+                let (applied, _) = r.applied(None).map_err(|e| {
+                    format!("`random`: the scene's [random] profile cannot be the reference ({e}); give profile_table")
+                })?;
+                Ok(Some(applied.table()))
+            }
+            None => Ok(None),
+        },
         (Some(p), None) => Err(format!(
             "`{p}`: use \"random\" (the scene's [random] profile) or give profile_table"
         )),

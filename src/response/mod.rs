@@ -108,6 +108,9 @@ impl<'a> Prepared<'a> {
 pub struct SceneResponse {
     pub sine: Vec<SineAxis>,
     pub random: Vec<RandomAxis>,
+    /// The inputs as applied; written at the top of a qualification's results, not here.
+    #[serde(skip)]
+    pub environments: crate::spec::environment::Environments,
 }
 
 impl SceneResponse {
@@ -140,16 +143,21 @@ pub fn run_scene(prep: &Prepared) -> Result<SceneResponse, Error> {
     };
     let mut out = SceneResponse::default();
     if let Some(s) = &prep.scene.file.sine {
+        out.environments.sine = Some(crate::spec::environment::SineEnvironment::of(s));
         for a in axes(&s.axes) {
             out.sine
                 .push(sine::run(prep, s, a, &SineOptions::default())?);
         }
     }
     if let Some(r) = &prep.scene.file.random {
-        for a in axes(&r.axes) {
+        let (spec, env) = r
+            .applied(Some(prep.sys.result.total_mass_kg))
+            .map_err(|e| prep.scene.locator().err("random", e))?;
+        for a in axes(&spec.axes) {
             out.random
-                .push(random::run(prep, r, a, &RandomOptions::default())?);
+                .push(random::run(prep, &spec, a, &RandomOptions::default())?);
         }
+        out.environments.random = Some(env);
     }
     Ok(out)
 }

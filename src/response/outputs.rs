@@ -45,6 +45,8 @@ pub struct InterfaceOut {
     /// Area over section modulus of the joint face (column tube), 1/m: a bending moment M
     /// unloads the face edge as an axial tension M·A/Z would.
     pub face_a_over_z: f64,
+    /// What carries the joint's shear beyond friction (stack joints only; empty otherwise).
+    pub shear_paths: super::margins::ShearPaths,
 }
 
 #[derive(Debug, Clone)]
@@ -133,6 +135,9 @@ impl OutputSet {
                 area / z
             })
             .unwrap_or(0.0);
+        let shear_paths = stack
+            .map(|s| super::margins::ShearPaths::of_stack(s, &scene.model.material))
+            .unwrap_or_default();
         let mut ifs = Vec::new();
         for (si, s) in model.springs.iter().enumerate() {
             let name = model.spring_names[si].clone();
@@ -156,6 +161,7 @@ impl OutputSet {
                 rows: r,
                 preload_n,
                 face_a_over_z,
+                shear_paths: shear_paths.clone(),
             });
         }
 

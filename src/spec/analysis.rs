@@ -89,6 +89,18 @@ pub struct SineSpec {
     pub axes: Vec<String>,
     #[serde(default)]
     pub segment: Vec<SineSegment>,
+    /// Where the level comes from (a standard, a launcher's manual, a paper section): shown
+    /// with the environment in the report.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+    /// The test level the segments stand for (a label: the segments are applied as given);
+    /// sets the default sweep rate.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub level: Option<super::environment::TestLevel>,
+    /// Logarithmic sweep rate, octaves per minute (reported with the sweep duration; the
+    /// steady-state peaks do not depend on it). Default: the level's rate.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep_rate_oct_min: Option<f64>,
 }
 
 impl SineSpec {
@@ -113,14 +125,33 @@ impl SineSpec {
 }
 
 /// `[random]`: a base-acceleration PSD, log-log between its points, applied along each axis.
+/// Either an explicit `profile` (the test input as given) or a named `environment` at its
+/// limit level, raised to the test `level` and optionally reduced for the model's weight; see
+/// `spec::environment`.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct RandomSpec {
     #[serde(default = "all_axes")]
     pub axes: Vec<String>,
-    /// `[[f_hz, g2_hz], ...]`.
+    /// `[[f_hz, g2_hz], ...]`: the input as applied (no level factor, no weight reduction).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub profile: Vec<[f64; 2]>,
-    /// Test duration, s (reported; the 3σ figures do not depend on it).
+    /// Where an explicit `profile` comes from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+    /// A named table of `spec::environment::NAMED` (e.g. `gevs-component`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub environment: Option<String>,
+    /// The test level; scales a named `environment` (qualification and protoflight +3 dB) and
+    /// sets the default duration. With an explicit `profile` it only labels it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub level: Option<super::environment::TestLevel>,
+    /// `gevs`: the GSFC-STD-7000A weight-based reduction of `gevs-component` for the model's
+    /// mass; `none` (default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weight_reduction: Option<super::environment::WeightReduction>,
+    /// Test duration per axis, s (reported; the 3σ figures do not depend on it). Default: the
+    /// level's duration.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub duration_s: Option<f64>,
 }
@@ -128,6 +159,26 @@ pub struct RandomSpec {
 impl RandomSpec {
     pub fn table(&self) -> Vec<(f64, f64)> {
         self.profile.iter().map(|p| (p[0], p[1])).collect()
+    }
+
+    /// The section with its named environment, level and weight reduction applied for a model
+    /// of `mass_kg`: an explicit profile, as the analyses read it, and the record of how it
+    /// was made.
+    pub fn applied(
+        &self,
+        mass_kg: Option<f64>,
+    ) -> Result<(RandomSpec, super::environment::RandomEnvironment), String> {
+        let env = super::environment::resolve(self, mass_kg)?;
+        let spec = RandomSpec {
+            axes: self.axes.clone(),
+            profile: env.profile.clone(),
+            source: Some(env.source.clone()),
+            environment: None,
+            level: env.level,
+            weight_reduction: None,
+            duration_s: env.duration_s,
+        };
+        Ok((spec, env))
     }
 }
 
@@ -172,10 +223,12 @@ pub struct MarginsSpec {
     /// Ultimate factor of safety for the guide bars. NASA-STD-5001B Table 1 (1.4).
     pub ultimate_factor: f64,
     /// Add the joint's bending moment to the gapping load as M·A/Z of the column-tube face
-    /// (the moment that lifts the face edge). Off by default: the gapping margin MS_sep =
-    /// P_min/(FF·FS_sep·P_ext) − 1 takes the joint's axial tension as P_ext, and the real
-    /// contact face (flanges) is not in the scene, so the tube section would overstate the
-    /// edge lift.
+    /// (the moment that lifts the face edge as much as that axial tension would). On by
+    /// default: in a preloaded column under lateral load the bending moment at the joint
+    /// unloads one edge of the face, and that edge opens first; gapping of a column joint
+    /// under bending is the governing case of preloaded joints (NASA-STD-5020B §4.4.1 takes
+    /// the external load that unloads the joint, whatever its source). The tube face is the
+    /// scene's contact face; a wider flange would lift less.
     pub include_face_moment: bool,
 }
 
@@ -190,7 +243,7 @@ impl Default for MarginsSpec {
             preload_loss: 0.05,
             yield_factor: 1.25,
             ultimate_factor: 1.4,
-            include_face_moment: false,
+            include_face_moment: true,
         }
     }
 }
@@ -231,6 +284,105 @@ fn check_sine_segment(
         plausible::check(loc, &k("displacement_m"), d, plausible::DISPLACEMENT_M)?;
     }
     Ok(())
+}
+
+/// The source of the random input: exactly one of an explicit profile or a named table; a
+/// weight reduction only of the table it is written for.
+fn validate_random_source(r: &RandomSpec, loc: &Locator) -> Result<(), SpecError> {
+    use super::environment::{GEVS_COMPONENT, WeightReduction, named, unknown};
+    match (&r.environment, r.profile.is_empty()) {
+        (Some(_), false) => {
+            return Err(loc.err(
+                "random.environment",
+                "give either `profile` or `environment`, not both",
+            ));
+        }
+        (None, true) => {
+            return Err(loc.err(
+                "random",
+                "give a `profile` (at least two points) or a named `environment`",
+            ));
+        }
+        (Some(name), true) if named(name).is_none() => {
+            return Err(loc.err("random.environment", unknown(name)));
+        }
+        _ => {}
+    }
+    if r.weight_reduction == Some(WeightReduction::Gevs)
+        && r.environment.as_deref() != Some(GEVS_COMPONENT)
+    {
+        return Err(loc.err(
+            "random.weight_reduction",
+            format!(
+                "the GEVS weight reduction is written for the GEVS component table: set environment = \"{GEVS_COMPONENT}\""
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks `[random]`: its source, then the explicit profile's points and the duration.
+fn validate_random(r: &RandomSpec, loc: &Locator) -> Result<(), SpecError> {
+    let check_axes = axes_checker(loc);
+    check_axes("random.axes", &r.axes)?;
+    validate_random_source(r, loc)?;
+    if r.environment.is_none() && r.profile.len() < 2 {
+        return Err(loc.err("random.profile", "the profile needs at least two points"));
+    }
+    for (i, p) in r.profile.iter().enumerate() {
+        let k = format!("random.profile[{i}]");
+        if p[0] <= 0.0 {
+            return Err(loc.err(&k, format!("frequencies must be positive, got {} Hz", p[0])));
+        }
+        if p[1] <= 0.0 {
+            return Err(loc.err(
+                &k,
+                format!(
+                    "the PSD level must be positive (log-log interpolation), got {} g²/Hz",
+                    p[1]
+                ),
+            ));
+        }
+        plausible::check(loc, &k, p[0], plausible::FREQUENCY_HZ)?;
+        plausible::check(loc, &k, p[1], plausible::PSD_G2_HZ)?;
+        if i > 0 && p[0] <= r.profile[i - 1][0] {
+            return Err(loc.err(
+                &k,
+                format!(
+                    "profile frequencies must increase: {} Hz follows {} Hz",
+                    p[0],
+                    r.profile[i - 1][0]
+                ),
+            ));
+        }
+    }
+    if let Some(d) = r.duration_s
+        && d <= 0.0
+    {
+        return Err(loc.err("random.duration_s", format!("must be positive, got {d}")));
+    }
+    if let Some(d) = r.duration_s {
+        plausible::check(loc, "random.duration_s", d, plausible::DURATION_S)?;
+    }
+    Ok(())
+}
+
+/// A checker of an `axes` list: at least one, each x, y or z.
+fn axes_checker(loc: &Locator) -> impl Fn(&str, &[String]) -> Result<(), SpecError> + '_ {
+    move |key: &str, axes: &[String]| -> Result<(), SpecError> {
+        if axes.is_empty() {
+            return Err(loc.err(key, "name at least one axis (x, y or z)"));
+        }
+        for (i, a) in axes.iter().enumerate() {
+            if axis_index(a).is_none() {
+                return Err(loc.err(
+                    &format!("{key}[{i}]"),
+                    format!("unknown axis `{a}`: use x, y or z"),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Checks the response sections. `model` is the expanded generic model (for node references).
@@ -298,22 +450,17 @@ pub fn validate(
             }
         }
     }
-    let check_axes = |key: &str, axes: &[String]| -> Result<(), SpecError> {
-        if axes.is_empty() {
-            return Err(loc.err(key, "name at least one axis (x, y or z)"));
-        }
-        for (i, a) in axes.iter().enumerate() {
-            if axis_index(a).is_none() {
-                return Err(loc.err(
-                    &format!("{key}[{i}]"),
-                    format!("unknown axis `{a}`: use x, y or z"),
-                ));
-            }
-        }
-        Ok(())
-    };
+    let check_axes = axes_checker(loc);
     if let Some(s) = &file.sine {
         check_axes("sine.axes", &s.axes)?;
+        if let Some(r) = s.sweep_rate_oct_min
+            && !(r > 0.0 && r.is_finite())
+        {
+            return Err(loc.err(
+                "sine.sweep_rate_oct_min",
+                format!("must be a positive rate, got {r}"),
+            ));
+        }
         if s.segment.is_empty() {
             return Err(loc.err("sine", "the sine level needs at least one [[sine.segment]]"));
         }
@@ -378,45 +525,7 @@ pub fn validate(
         }
     }
     if let Some(r) = &file.random {
-        check_axes("random.axes", &r.axes)?;
-        if r.profile.len() < 2 {
-            return Err(loc.err("random.profile", "the profile needs at least two points"));
-        }
-        for (i, p) in r.profile.iter().enumerate() {
-            let k = format!("random.profile[{i}]");
-            if p[0] <= 0.0 {
-                return Err(loc.err(&k, format!("frequencies must be positive, got {} Hz", p[0])));
-            }
-            if p[1] <= 0.0 {
-                return Err(loc.err(
-                    &k,
-                    format!(
-                        "the PSD level must be positive (log-log interpolation), got {} g²/Hz",
-                        p[1]
-                    ),
-                ));
-            }
-            plausible::check(loc, &k, p[0], plausible::FREQUENCY_HZ)?;
-            plausible::check(loc, &k, p[1], plausible::PSD_G2_HZ)?;
-            if i > 0 && p[0] <= r.profile[i - 1][0] {
-                return Err(loc.err(
-                    &k,
-                    format!(
-                        "profile frequencies must increase: {} Hz follows {} Hz",
-                        p[0],
-                        r.profile[i - 1][0]
-                    ),
-                ));
-            }
-        }
-        if let Some(d) = r.duration_s
-            && d <= 0.0
-        {
-            return Err(loc.err("random.duration_s", format!("must be positive, got {d}")));
-        }
-        if let Some(d) = r.duration_s {
-            plausible::check(loc, "random.duration_s", d, plausible::DURATION_S)?;
-        }
+        validate_random(r, loc)?;
     }
     let mut names = std::collections::HashSet::new();
     for (i, p) in file.response.iter().enumerate() {

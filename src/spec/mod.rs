@@ -10,6 +10,7 @@
 pub mod analysis;
 #[cfg(test)]
 mod doc_keys;
+pub mod environment;
 pub mod model;
 pub mod plausible;
 pub mod qualify;

@@ -111,6 +111,83 @@ pub struct InterfaceSpec {
     pub rotational_stiffness_n_m_rad: f64,
     /// About the column axis (z), N·m/rad.
     pub torsional_stiffness_n_m_rad: f64,
+    /// A connector that carries the joint's shear once friction is exceeded (the male and
+    /// female connectors of the paper's Fig. 4). Absent: friction, then the guide bar bearing
+    /// on the bore, carry the shear.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_key: Option<ShearKeySpec>,
+}
+
+/// `[stack.interface] shear_key`: a spigot, pin or cone across the joint plane. Its capacity
+/// is min(τ_allow · shear area, σ_br,allow · bearing area).
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ShearKeySpec {
+    /// Name of a `[[material]]`; its yield strength gives the default allowables.
+    pub material: String,
+    /// Section of the key sheared in the joint plane, m².
+    pub shear_area_m2: f64,
+    /// Projected bearing area of the key on its socket (diameter × engagement), m².
+    pub bearing_area_m2: f64,
+    /// Allowable shear stress, Pa. Default: yield/√3 of the material (distortion-energy
+    /// criterion for a ductile metal in pure shear).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_strength_pa: Option<f64>,
+    /// Allowable bearing stress, Pa. Default: the material's tensile yield (below the bearing
+    /// yield MMPDS gives for an edge distance of 1.5 diameters or more, so conservative).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bearing_strength_pa: Option<f64>,
+}
+
+impl ShearKeySpec {
+    /// (shear, bearing) allowable stresses, Pa, from the explicit keys or the material's yield.
+    pub fn allowables(&self, materials: &[super::Material]) -> Option<(f64, f64)> {
+        let fy = materials
+            .iter()
+            .find(|m| m.name == self.material)
+            .and_then(|m| m.yield_strength_pa);
+        let shear = self.shear_strength_pa.or(fy.map(|y| y / 3f64.sqrt()))?;
+        let bearing = self.bearing_strength_pa.or(fy)?;
+        Some((shear, bearing))
+    }
+
+    /// Capacity of the key in the joint plane, N.
+    pub fn capacity_n(&self, materials: &[super::Material]) -> Option<f64> {
+        let (tau, sigma) = self.allowables(materials)?;
+        Some((tau * self.shear_area_m2).min(sigma * self.bearing_area_m2))
+    }
+
+    fn validate(&self, materials: &[super::Material], loc: &Locator) -> Result<(), SpecError> {
+        let k = |s: &str| format!("stack.interface.shear_key.{s}");
+        for (key, v) in [
+            ("shear_area_m2", Some(self.shear_area_m2)),
+            ("bearing_area_m2", Some(self.bearing_area_m2)),
+            ("shear_strength_pa", self.shear_strength_pa),
+            ("bearing_strength_pa", self.bearing_strength_pa),
+        ] {
+            if let Some(v) = v
+                && !(v > 0.0 && v.is_finite())
+            {
+                return Err(loc.err(&k(key), format!("must be positive, got {v}")));
+            }
+        }
+        if !materials.iter().any(|m| m.name == self.material) {
+            return Err(loc.err(
+                &k("material"),
+                format!("material `{}` is not defined", self.material),
+            ));
+        }
+        if self.allowables(materials).is_none() {
+            return Err(loc.err(
+                &k("material"),
+                format!(
+                    "material `{}` gives no yield_strength_pa: give it one, or give shear_strength_pa and bearing_strength_pa",
+                    self.material
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl StackSpec {
@@ -279,6 +356,9 @@ impl StackSpec {
             if !materials.iter().any(|m| &m.name == name) {
                 return Err(loc.err(&k(key), format!("material `{name}` is not defined")));
             }
+        }
+        if let Some(key) = &self.interface.shear_key {
+            key.validate(materials, loc)?;
         }
         Ok(())
     }

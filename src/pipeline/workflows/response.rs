@@ -10,11 +10,14 @@ use crate::response::{
 };
 use crate::spec::Scene;
 use crate::spec::analysis::{DampingSpec, RandomSpec, SineSpec};
+use crate::spec::environment::{Environments, RandomEnvironment, SineEnvironment};
 
 /// A response analysis run on its own (`satqual sine` / `satqual random`).
 pub struct ResponseRun<A> {
     pub damping: DampingSpec,
     pub axes: Vec<A>,
+    /// The random input as applied (`satqual random` only).
+    pub environment: Option<RandomEnvironment>,
 }
 
 /// `[sine]` on the planned axes, with the scene's modes.
@@ -25,6 +28,7 @@ pub fn sine(scene: &Scene, plan: &AxesPlan<SineSpec>) -> Result<ResponseRun<Sine
     Ok(ResponseRun {
         axes: sine_axes(&prep, plan)?,
         damping: prep.damping,
+        environment: None,
     })
 }
 
@@ -36,9 +40,11 @@ pub fn random(
     let (model, sys) = super::modal::run(scene, &default_modal(scene))?;
     refuse_unsupported(scene, &sys)?;
     let prep = Prepared::new(scene, &model, &sys)?;
+    let (axes, environment) = random_axes(&prep, plan)?;
     Ok(ResponseRun {
-        axes: random_axes(&prep, plan)?,
+        axes,
         damping: prep.damping,
+        environment: Some(environment),
     })
 }
 
@@ -52,9 +58,22 @@ pub fn scene_response(
 ) -> Result<SceneResponse, Error> {
     refuse_unsupported(scene, sys)?;
     let prep = Prepared::new(scene, model, sys)?;
+    let mut environments = Environments {
+        sine: sine.map(|p| SineEnvironment::of(&p.spec)),
+        random: None,
+    };
+    let random = match random {
+        Some(p) => {
+            let (axes, env) = random_axes(&prep, p)?;
+            environments.random = Some(env);
+            axes
+        }
+        None => Vec::new(),
+    };
     Ok(SceneResponse {
         sine: sine.map_or(Ok(Vec::new()), |p| sine_axes(&prep, p))?,
-        random: random.map_or(Ok(Vec::new()), |p| random_axes(&prep, p))?,
+        random,
+        environments,
     })
 }
 
@@ -90,10 +109,22 @@ fn sine_axes(prep: &Prepared, plan: &AxesPlan<SineSpec>) -> Result<Vec<SineAxis>
         .collect()
 }
 
-fn random_axes(prep: &Prepared, plan: &AxesPlan<RandomSpec>) -> Result<Vec<RandomAxis>, Error> {
+/// The random analysis on every planned axis, with the input applied for the model's mass
+/// (a named environment at its level, reduced for weight when asked), and that input.
+fn random_axes(
+    prep: &Prepared,
+    plan: &AxesPlan<RandomSpec>,
+) -> Result<(Vec<RandomAxis>, RandomEnvironment), Error> {
     let opts = RandomOptions::default();
-    plan.axes
+    let mass = prep.sys.result.total_mass_kg;
+    let (spec, env) = plan
+        .spec
+        .applied(Some(mass))
+        .map_err(|e| prep.scene.locator().err("random", e))?;
+    let axes = plan
+        .axes
         .iter()
-        .map(|&a| response::random::run(prep, &plan.spec, a, &opts))
-        .collect()
+        .map(|&a| response::random::run(prep, &spec, a, &opts))
+        .collect::<Result<_, _>>()?;
+    Ok((axes, env))
 }

@@ -3,6 +3,7 @@
 
 mod analyses;
 mod cause;
+mod environments;
 mod gates;
 mod joint_loads;
 mod modes;
@@ -17,6 +18,7 @@ use super::document::{Block, Document, Figure, Section};
 /// The report of `q`, with `figures` (already drawn) in its Plots section.
 pub fn document(q: &Qualification, figures: Vec<Figure>) -> Document {
     let mut sections = vec![gates::section(q), analyses::section(q)];
+    sections.extend(environments::section(q));
     sections.extend(modes::section(q));
     sections.extend(response::sections(q));
     sections.extend(notes::assumptions(q));
@@ -91,6 +93,7 @@ mod tests {
                 analysis: "modal".into(),
                 reason: "no structure".into(),
             }],
+            environments: None,
             modal: None,
             response: None,
             separation: None,

@@ -1,6 +1,7 @@
 //! The report's figures, one file per family, each with the CSV of the data it plots under
 //! `curves/`, so every plotted number can be checked.
 
+mod environments;
 mod modal;
 mod monte_carlo;
 mod response;
@@ -17,6 +18,9 @@ pub type Files = Vec<(String, Vec<u8>)>;
 /// Draws every figure the results allow, in report order, and adds their curves to `files`.
 pub fn build(q: &Qualification, files: &mut Files) -> Result<Vec<Figure>, Error> {
     let mut figs = Vec::new();
+    if let Some(env) = &q.environments {
+        figs.extend(environments::figures(env, files)?);
+    }
     if let Some(m) = &q.modal {
         figs.push(modal::effective_mass(m, files)?);
     }
