@@ -7,8 +7,9 @@ use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::fnv1a;
 use satqual::report::write_atomic;
+use satqual::separation::montecarlo::{Demand, aggregate};
 use satqual::separation::shard::{self, Part};
-use satqual::separation::{self, Model, RunOptions, montecarlo::aggregate};
+use satqual::separation::{self, Model, RunOptions};
 use satqual::spec::Scene;
 use std::path::{Path, PathBuf};
 
@@ -54,7 +55,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let scene = Scene::parse(Path::new(&campaign.scene), &text)?;
     let model = Model::from_scene(&scene)?;
     let result = separation::run(&model, &RunOptions::default())?;
-    let mc = aggregate(campaign.seed, campaign.satellites, &realizations);
+    let demand = Demand::of(&model);
+    let mc = aggregate(campaign.seed, campaign.satellites, demand, &realizations);
     if let Some(out) = &args.out {
         let json = serde_json::to_string_pretty(&Output {
             scene: campaign.scene.clone(),

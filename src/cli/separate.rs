@@ -174,12 +174,12 @@ pub(super) fn print(
             "  Monte Carlo {} runs (seed {}): final speed P1 {:.4} P50 {:.4} P99 {:.4} P99.73 {:.4} m/s; tip-off rate P99.73 {:.3} deg/s; min clearance P0.27 {:.4} m",
             mc.runs,
             mc.seed,
-            mc.final_speed_m_s.p1,
-            mc.final_speed_m_s.p50,
-            mc.final_speed_m_s.p99,
-            mc.final_speed_m_s.p99_73,
-            mc.tip_off_rate_deg_s.p99_73,
-            mc.min_clearance_m.p0_27
+            mc.final_speed_m_s.p1.value,
+            mc.final_speed_m_s.p50.value,
+            mc.final_speed_m_s.p99.value,
+            mc.final_speed_m_s.p99_73.value,
+            mc.tip_off_rate_deg_s.p99_73.value,
+            mc.min_clearance_m.p0_27.value
         );
     }
     p.human(s.trim_end());
