@@ -36,7 +36,8 @@ pub struct Percentile {
     /// Values behind it: the runs, or runs × satellites for a statistic pooled over the
     /// satellites (the satellites of one run share its friction and clearance, so a pooled
     /// interval treats correlated values as independent: read it as indicative; the gates use
-    /// one value per run).
+    /// one value per run). 0: nothing to take a percentile of (e.g. the clearance of a single
+    /// satellite), and then `value` is 0 and both interval ends are null.
     pub samples: usize,
 }
 
