@@ -170,7 +170,7 @@ fn separation_inputs_that_would_run_for_minutes_are_refused() {
             "[1e-6, 1e1] m",
         ),
         (
-            "runs = 0",
+            "runs = 59",
             "runs = 1000000000",
             "separation.dispersion.runs",
             "limit of 100000",

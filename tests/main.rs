@@ -33,6 +33,7 @@ mod qualify;
 mod separation_accuracy;
 mod separation_cli;
 mod separation_contact;
+mod separation_gates;
 mod separation_input;
 mod separation_montecarlo;
 

@@ -233,15 +233,15 @@ fn exit_speed_distribution_converges_with_tolerance() {
     // Not vacuous: the runs are chaotic (the two tolerances do give different exit speeds),
     // and the dispersions spread the exit speeds far more than the pairs differ.
     assert!(sd > 1e-6, "s_d = {sd:e}");
-    assert!(a.final_speed_m_s.p99 - a.final_speed_m_s.p1 > 0.01);
+    assert!(a.final_speed_m_s.p99.value - a.final_speed_m_s.p1.value > 0.01);
     assert!(mean.abs() < 4.0 * se, "mean d {mean:e}, SE {se:e}");
-    let dp50 = a.final_speed_m_s.p50 - b.final_speed_m_s.p50;
+    let dp50 = a.final_speed_m_s.p50.value - b.final_speed_m_s.p50.value;
     let se50 = (std::f64::consts::PI / 2.0).sqrt() * se;
     assert!(
         dp50.abs() < 4.0 * se50,
         "P50 {} vs {} (Δ {dp50:e}, SE {se50:e})",
-        a.final_speed_m_s.p50,
-        b.final_speed_m_s.p50
+        a.final_speed_m_s.p50.value,
+        b.final_speed_m_s.p50.value
     );
 }
 

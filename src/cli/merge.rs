@@ -10,8 +10,9 @@ use satqual::pipeline::fnv1a;
 use satqual::pipeline::param_sweep::{SweepJob, table};
 use satqual::report::write_atomic;
 use satqual::separation::Realization;
+use satqual::separation::montecarlo::{Demand, aggregate};
 use satqual::separation::shard::{self, Campaign, Part};
-use satqual::separation::{self, Model, RunOptions, montecarlo::aggregate};
+use satqual::separation::{self, Model, RunOptions};
 use satqual::spec::Scene;
 use std::path::{Path, PathBuf};
 
@@ -47,7 +48,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     }
     let model = Model::from_scene(&scene)?;
     let result = separation::run(&model, &RunOptions::default())?;
-    let mc = aggregate(campaign.seed, campaign.satellites, &realizations);
+    let demand = Demand::of(&model);
+    let mc = aggregate(campaign.seed, campaign.satellites, demand, &realizations);
     if let Some(out) = &args.out {
         let json = serde_json::to_string_pretty(&Output {
             scene: campaign.scene.clone(),

@@ -189,13 +189,14 @@ pub(super) fn print(
             "  Monte Carlo {} runs (seed {}): final speed P1 {:.4} P50 {:.4} P99 {:.4} P99.73 {:.4} m/s; tip-off rate P99.73 {:.3} deg/s; min clearance P0.27 {:.4} m",
             mc.runs,
             mc.seed,
-            mc.final_speed_m_s.p1,
-            mc.final_speed_m_s.p50,
-            mc.final_speed_m_s.p99,
-            mc.final_speed_m_s.p99_73,
-            mc.tip_off_rate_deg_s.p99_73,
-            mc.min_clearance_m.p0_27
+            mc.final_speed_m_s.p1.value,
+            mc.final_speed_m_s.p50.value,
+            mc.final_speed_m_s.p99.value,
+            mc.final_speed_m_s.p99_73.value,
+            mc.tip_off_rate_deg_s.p99_73.value,
+            mc.min_clearance_m.p0_27.value
         );
+        bounds_line(&mut s, mc);
     }
     p.human(s.trim_end());
     p.json(&Output {
@@ -203,6 +204,35 @@ pub(super) fn print(
         result,
         monte_carlo: mc,
     })
+}
+
+/// What the runs demonstrate: the per-run bounds at the scene's probability and confidence.
+fn bounds_line(s: &mut String, mc: &separation::MonteCarloResult) {
+    let b = &mc.bounds;
+    let Some(speed) = &b.slowest_exit_speed_m_s else {
+        return;
+    };
+    let shown = if speed.demonstrated {
+        "demonstrated".to_string()
+    } else {
+        format!(
+            "NOT demonstrated: {} runs support at most {:.4}; need {}",
+            speed.runs, speed.demonstrated_probability, speed.runs_needed
+        )
+    };
+    let value = |t: &Option<separation::montecarlo::TailBound>| {
+        t.map_or("–".to_string(), |t| format!("{:.4}", t.value))
+    };
+    let _ = writeln!(
+        s,
+        "  bounds at probability {} / confidence {} ({shown}): slowest exit {:.4} m/s, highest tip-off {} deg/s, smallest clearance {} m; {} runs with a wedged satellite",
+        mc.probability,
+        mc.confidence,
+        speed.value,
+        value(&b.highest_tip_off_rate_deg_s),
+        value(&b.min_clearance_m),
+        b.runs_with_wedging
+    );
 }
 
 fn write_histories(dir: &Path, h: &separation::History) -> Result<(), Error> {

@@ -5,8 +5,10 @@
 use crate::error::Error;
 use crate::modal::ModalOptions;
 use crate::results::Skipped;
+use crate::separation::order_stats;
 use crate::signal::{Detrend, IngestOptions, WelchOptions, Window};
 use crate::spec::analysis::{RandomSpec, SineSpec, axis_index};
+use crate::spec::separation::{MAX_MONTE_CARLO_RUNS, RunsWanted};
 use crate::spec::{GatesSpec, LogKind, Scene, SolverChoice, TestLogSpec};
 use std::path::PathBuf;
 
@@ -103,10 +105,10 @@ impl Plan {
             modal,
             sine,
             random,
-            separation: separation_plan(scene),
+            separation: separation_plan(scene)?.map(|(plan, _)| plan),
             test_logs: test_logs(scene)?,
             paper_shaker_test: f.stack.as_ref().is_some_and(|s| s.satellites == 2),
-            skipped: skipped(scene),
+            skipped: skipped(scene)?,
         })
     }
 }
@@ -175,17 +177,47 @@ fn axes_plan<S: Clone>(spec: &S, names: &[String]) -> Result<AxesPlan<S>, Error>
     })
 }
 
-fn separation_plan(scene: &Scene) -> Option<SeparationPlan> {
-    scene.file.separation.as_ref().map(|s| SeparationPlan {
-        monte_carlo: (s.dispersion.runs > 0).then_some(MonteCarloPlan {
-            runs: s.dispersion.runs,
-            seed: s.dispersion.seed,
-        }),
-    })
+/// The release and its Monte Carlo, with the reason when the Monte Carlo is not run.
+fn separation_plan(scene: &Scene) -> Result<Option<(SeparationPlan, Option<String>)>, Error> {
+    let Some(s) = scene.file.separation.as_ref() else {
+        return Ok(None);
+    };
+    let d = &s.dispersion;
+    let key = "separation.dispersion.runs";
+    let wanted = d.runs_wanted().map_err(|e| scene.locator().err(key, e))?;
+    let runs = match wanted {
+        RunsWanted::Count(0) => Err("[separation.dispersion] runs = 0".to_string()),
+        RunsWanted::Count(n) => Ok(n),
+        RunsWanted::Auto if !d.disperses() => {
+            Err("[separation.dispersion] declares no dispersion".to_string())
+        }
+        RunsWanted::Auto => Ok(auto_runs(scene, d.probability, d.confidence)?),
+    };
+    let monte_carlo = runs
+        .as_ref()
+        .ok()
+        .map(|&runs| MonteCarloPlan { runs, seed: d.seed });
+    Ok(Some((SeparationPlan { monte_carlo }, runs.err())))
+}
+
+/// The fewest runs whose extreme sample bounds `probability` at `confidence` (Wilks).
+fn auto_runs(scene: &Scene, probability: f64, confidence: f64) -> Result<usize, Error> {
+    let n = order_stats::runs_needed(probability, confidence).unwrap_or(usize::MAX);
+    if n > MAX_MONTE_CARLO_RUNS {
+        let e = scene.locator().err(
+            "separation.dispersion.probability",
+            format!(
+                "{probability} at {confidence} confidence needs {n} runs, above the limit of \
+                 {MAX_MONTE_CARLO_RUNS}"
+            ),
+        );
+        return Err(e.into());
+    }
+    Ok(n)
 }
 
 /// What is not run and why, in the order the report lists it.
-fn skipped(scene: &Scene) -> Vec<Skipped> {
+fn skipped(scene: &Scene) -> Result<Vec<Skipped>, Error> {
     let f = &scene.file;
     let has_model = !scene.model.node.is_empty();
     let wants_modal =
@@ -209,21 +241,18 @@ fn skipped(scene: &Scene) -> Vec<Skipped> {
             ));
         }
     }
-    match separation_plan(scene) {
+    match separation_plan(scene)? {
         None => out.push(Skipped::new(
             "separation",
             "the scene has no [separation] section",
         )),
-        Some(SeparationPlan { monte_carlo: None }) => out.push(Skipped::new(
-            "separation Monte Carlo",
-            "[separation.dispersion] runs = 0",
-        )),
+        Some((_, Some(why))) => out.push(Skipped::new("separation Monte Carlo", why)),
         Some(_) => {}
     }
     if f.test_log.is_empty() {
         out.push(Skipped::new("test data", "the scene lists no [[test_log]]"));
     }
-    out
+    Ok(out)
 }
 
 /// Every `[[test_log]]`, resolved; a signature needs both its before and its after log.

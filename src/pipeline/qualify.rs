@@ -135,8 +135,13 @@ fn separation(
     let run = workflows::separate::run(scene, &req, progress)?;
     found.ran.push("separation".into());
     let limits = &plan.limits;
-    let max_time = run.model.max_time_s;
-    let nominal = gates::separation::nominal(&run.result, max_time, limits);
+    let m = &run.model;
+    let run_limits = gates::separation::RunLimits {
+        max_time_s: m.max_time_s,
+        stall_speed_m_s: m.stall_speed_m_s,
+        track_clearance_to_m: m.track_clearance_to_m,
+    };
+    let nominal = gates::separation::nominal(&run.result, &run_limits, limits);
     found.extend_group(Group::Separation, nominal);
     if let (Some(mc), Some(p)) = (&run.monte_carlo, sep.monte_carlo) {
         let what = format!("separation Monte Carlo ({} runs, seed {})", p.runs, p.seed);

@@ -20,6 +20,7 @@ pub mod body;
 pub mod contact;
 pub mod integrator;
 pub mod montecarlo;
+pub mod order_stats;
 pub mod params;
 pub mod shard;
 pub mod sim;
@@ -29,5 +30,6 @@ pub use integrator::Stats;
 pub use montecarlo::{MonteCarloResult, Percentiles, Realization, monte_carlo};
 pub use params::{Model, SatelliteParams, SpringParams};
 pub use sim::{
-    EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult, run,
+    EdgeLoad, EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult,
+    Stall, run,
 };

@@ -97,6 +97,10 @@ pub struct Model {
     pub max_time_s: f64,
     pub max_steps: usize,
     pub output_interval_s: f64,
+    /// Below this axial speed on the bars, after moving, a satellite has stalled, m/s.
+    pub stall_speed_m_s: f64,
+    /// The run tracks the clearance of consecutive satellites until they are this far apart, m.
+    pub track_clearance_to_m: f64,
     pub dispersion: DispersionSpec,
 }
 
@@ -242,6 +246,8 @@ impl Model {
             max_time_s: sep.max_time_s,
             max_steps: sep.max_steps,
             output_interval_s: sep.output_interval_s,
+            stall_speed_m_s: sep.stall_speed_m_s,
+            track_clearance_to_m: sep.track_clearance_to_m,
             dispersion: sep.dispersion.clone(),
         })
     }

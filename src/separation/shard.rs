@@ -13,7 +13,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// The `format` field of a part file.
-pub const PART_FORMAT: &str = "satqual-separate-part/1";
+pub const PART_FORMAT: &str = "satqual-separate-part/2";
 /// The `format` field of a part file of a parameter sweep.
 pub const SWEEP_PART_FORMAT: &str = "satqual-sweep-part/1";
 
@@ -96,6 +96,8 @@ pub struct RunRecord {
     pub final_speed_bits: Vec<u64>,
     pub tip_off_rate_bits: Vec<u64>,
     pub min_clearance_bits: Option<u64>,
+    /// Per satellite: it wedged in the bars.
+    pub wedged: Vec<bool>,
     pub steps: usize,
 }
 
@@ -177,6 +179,7 @@ impl Part {
                     final_speed_bits: bits(&x.final_speed_m_s),
                     tip_off_rate_bits: bits(&x.tip_off_rate_deg_s),
                     min_clearance_bits: x.min_clearance_m.map(f64::to_bits),
+                    wedged: x.wedged.clone(),
                     steps: x.steps,
                 })
                 .collect(),
@@ -255,7 +258,12 @@ impl RunRecord {
     fn check(&self, path: &Path, satellites: usize) -> Result<(), Error> {
         let bad =
             |why: &str| Error::Other(format!("{}: run {}: {why}", path.display(), self.index));
-        if self.final_speed_bits.len() != satellites || self.tip_off_rate_bits.len() != satellites {
+        let counts = [
+            self.final_speed_bits.len(),
+            self.tip_off_rate_bits.len(),
+            self.wedged.len(),
+        ];
+        if counts.iter().any(|&c| c != satellites) {
             return Err(bad(&format!("expected {satellites} satellites")));
         }
         let all = self
@@ -276,6 +284,7 @@ impl RunRecord {
             final_speed_m_s: vals(&self.final_speed_bits),
             tip_off_rate_deg_s: vals(&self.tip_off_rate_bits),
             min_clearance_m: self.min_clearance_bits.map(f64::from_bits),
+            wedged: self.wedged.clone(),
             steps: self.steps,
         }
     }

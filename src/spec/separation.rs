@@ -61,6 +61,14 @@ pub struct SeparationSpec {
     pub max_time_s: f64,
     #[serde(default = "defaults::max_steps")]
     pub max_steps: usize,
+    /// A satellite whose axial speed falls below this while its bores are still on the bars,
+    /// after it has moved, has stalled (wedged), m/s.
+    #[serde(default = "defaults::stall_speed_m_s")]
+    pub stall_speed_m_s: f64,
+    /// After the exits, the run goes on until consecutive satellites are this far apart (or
+    /// `max_time_s`), so that the clearance between them is tracked in free flight, m.
+    #[serde(default = "defaults::track_clearance_to_m")]
+    pub track_clearance_to_m: f64,
     /// Sampling interval of the CSV histories (`--out`), s.
     #[serde(default = "defaults::output_interval_s")]
     pub output_interval_s: f64,
@@ -210,8 +218,16 @@ pub struct CarrierSpec {
     pub inertia_kg_m2: [f64; 3],
 }
 
+/// A run count, or the word `auto`.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum RunCount {
+    Count(usize),
+    Word(String),
+}
+
 /// Monte Carlo dispersions (1σ for normal ones, bounds for uniform ones). All zero by default.
-#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, Default)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DispersionSpec {
     /// 1σ relative stiffness error of each spring, added to the nominal error.
@@ -229,19 +245,83 @@ pub struct DispersionSpec {
     /// 1σ skew of each electromagnet release time, s (a negative draw is clamped at the unlock).
     #[serde(default)]
     pub release_skew_sigma_s: f64,
-    /// Monte Carlo runs that `qualify` makes (0: none; `satqual separate --monte-carlo N`
-    /// overrides it).
+    /// Monte Carlo runs that `qualify` makes: a count (0: none), or `"auto"` (also when
+    /// absent): the fewest runs whose extreme sample bounds `probability` at `confidence`
+    /// (none when no dispersion is declared). `satqual separate --monte-carlo N` overrides it.
     #[serde(default)]
-    pub runs: usize,
+    pub runs: Option<RunCount>,
+    /// Probability of the one-sided bounds the Monte Carlo gates demonstrate (exit speed
+    /// below, tip-off rate and clearance loss above).
+    #[serde(default = "defaults::probability")]
+    pub probability: f64,
+    /// Confidence at which those bounds must be demonstrated.
+    #[serde(default = "defaults::confidence")]
+    pub confidence: f64,
     /// Seed of the Monte Carlo (ChaCha); the same seed gives the same percentiles.
     #[serde(default)]
     pub seed: u64,
+}
+
+impl Default for DispersionSpec {
+    fn default() -> Self {
+        DispersionSpec {
+            spring_stiffness_sigma: 0.0,
+            cg_offset_sigma_m: 0.0,
+            clearance_range_m: None,
+            friction_range: None,
+            release_skew_sigma_s: 0.0,
+            runs: None,
+            probability: defaults::probability(),
+            confidence: defaults::confidence(),
+            seed: 0,
+        }
+    }
+}
+
+/// What `runs` asks for, once checked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunsWanted {
+    Count(usize),
+    Auto,
+}
+
+impl DispersionSpec {
+    /// `runs` resolved: absent or `"auto"` is [`RunsWanted::Auto`]. Any other word is an
+    /// error message for the key.
+    pub fn runs_wanted(&self) -> Result<RunsWanted, String> {
+        match &self.runs {
+            None => Ok(RunsWanted::Auto),
+            Some(RunCount::Count(n)) => Ok(RunsWanted::Count(*n)),
+            Some(RunCount::Word(w)) if w == "auto" => Ok(RunsWanted::Auto),
+            Some(RunCount::Word(w)) => Err(format!("expected a run count or \"auto\", got `{w}`")),
+        }
+    }
+
+    /// Whether any dispersion is declared: without one every run is the nominal run.
+    pub fn disperses(&self) -> bool {
+        self.spring_stiffness_sigma > 0.0
+            || self.cg_offset_sigma_m > 0.0
+            || self.release_skew_sigma_s > 0.0
+            || self.clearance_range_m.is_some_and(|[a, b]| b > a)
+            || self.friction_range.is_some_and(|[a, b]| b > a)
+    }
 }
 
 /// Every default of `[separation]`, with its source.
 pub mod defaults {
     use super::BarModesChoice;
 
+    /// 0.9973, the two-sided 3σ content of a normal distribution taken one-sided: the level
+    /// launcher interface documents quote separation dispersions at (e.g. Ariane 6 User's
+    /// Manual, §4.6: separation conditions "at 3σ"; ECSS-E-HB-32-26A on 3σ design values).
+    pub fn probability() -> f64 {
+        0.9973
+    }
+    /// 95%: the confidence customary for order-statistics tolerance bounds (Wilks 1941; the
+    /// 95/95 criterion of best-estimate safety analysis, USNRC RG 1.203).
+    pub fn confidence() -> f64 {
+        0.95
+    }
     /// Paper §5.1.2: measured mean unlocking time of the compression device, 312 ms.
     pub fn unlock_time_s() -> f64 {
         0.312
@@ -333,6 +413,19 @@ pub mod defaults {
     pub fn max_time_s() -> f64 {
         60.0
     }
+    /// ASSUMPTION: 1 cm/s. A satellite that slow on the bars needs more than five minutes for
+    /// the 3.5 m of the reference bars, longer than any release sequence waits: it is stuck for
+    /// the mission. Ten times below it the friction of the stuck contacts decides, not the
+    /// threshold; the reference Monte Carlo's slowest exits (0.028-0.030 m/s) lie above it.
+    pub fn stall_speed_m_s() -> f64 {
+        0.01
+    }
+    /// 1 m: twice the largest satellite's column pitch (0.55 m) plus margin; beyond it a
+    /// re-contact needs a closing speed the free flight cannot produce before the first orbit
+    /// manoeuvre (ASSUMPTION).
+    pub fn track_clearance_to_m() -> f64 {
+        1.0
+    }
     pub fn max_steps() -> usize {
         5_000_000
     }
@@ -364,14 +457,24 @@ fn check_spring_and_budget(spec: &SeparationSpec, loc: &Locator) -> Result<(), S
         spec.max_time_s,
         SEPARATION_TIME_S,
     )?;
-    if spec.dispersion.runs > MAX_MONTE_CARLO_RUNS {
-        return Err(loc.err(
-            "separation.dispersion.runs",
-            format!(
-                "{} runs is above the limit of {MAX_MONTE_CARLO_RUNS}",
-                spec.dispersion.runs
-            ),
-        ));
+    let d = &spec.dispersion;
+    match d.runs_wanted() {
+        Err(e) => return Err(loc.err("separation.dispersion.runs", e)),
+        Ok(RunsWanted::Count(n)) if n > MAX_MONTE_CARLO_RUNS => {
+            return Err(loc.err(
+                "separation.dispersion.runs",
+                format!("{n} runs is above the limit of {MAX_MONTE_CARLO_RUNS}"),
+            ));
+        }
+        Ok(_) => {}
+    }
+    for (key, v) in [("probability", d.probability), ("confidence", d.confidence)] {
+        if !(v > 0.0 && v < 1.0) {
+            return Err(loc.err(
+                &format!("separation.dispersion.{key}"),
+                format!("must lie strictly between 0 and 1, got {v}"),
+            ));
+        }
     }
     Ok(())
 }
@@ -472,6 +575,8 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
     pos("separation.max_step_s", spec.max_step_s)?;
     pos("separation.max_time_s", spec.max_time_s)?;
     pos("separation.output_interval_s", spec.output_interval_s)?;
+    nonneg("separation.stall_speed_m_s", spec.stall_speed_m_s)?;
+    nonneg("separation.track_clearance_to_m", spec.track_clearance_to_m)?;
     if spec.max_steps == 0 {
         return Err(loc.err("separation.max_steps", "must be at least 1"));
     }

@@ -7,7 +7,7 @@ use crate::error::Error;
 use crate::gates;
 use crate::pipeline::fnv1a;
 use crate::results::{SweepPoint, SweepTable};
-use crate::separation::montecarlo::{aggregate, realize};
+use crate::separation::montecarlo::{Demand, aggregate, realize};
 use crate::separation::{Model, Realization};
 use crate::spec::Scene;
 use crate::spec::separation::MAX_MONTE_CARLO_RUNS;
@@ -154,12 +154,11 @@ pub fn table(job: &SweepJob, realizations: &[Realization]) -> Result<SweepTable,
 fn row(job: &SweepJob, p: usize, runs: &[Realization]) -> Result<SweepPoint, Error> {
     let scene = point::scene(job.base, &job.design, p)?;
     let limits = scene.file.gates.clone().unwrap_or_default();
-    let mc = aggregate(job.seed, job.satellites, runs);
+    let demand = Demand::of(&Model::from_scene(&scene)?);
+    let mc = aggregate(job.seed, job.satellites, demand, runs);
     let has_pairs = !mc.samples_min_clearance_m.is_empty();
-    let gates: Vec<_> = gates::separation::monte_carlo(&mc, &limits)
-        .into_iter()
-        .take(if has_pairs { 3 } else { 2 })
-        .collect();
+    // Without a pair of satellites there is no clearance, and no bound of it to gate.
+    let gates = gates::separation::monte_carlo(&mc, &limits);
     Ok(SweepPoint {
         point: p,
         values: job.design.points[p].clone(),

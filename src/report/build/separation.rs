@@ -64,7 +64,7 @@ fn percentiles(mc: &MonteCarloResult) -> Table {
         ("min. clearance [m]", &mc.min_clearance_m),
     ] {
         let mut cells = vec![name.to_string()];
-        cells.extend([p.p0_27, p.p1, p.p50, p.p99, p.p99_73].map(|v| format!("{v:.4}")));
+        cells.extend([p.p0_27, p.p1, p.p50, p.p99, p.p99_73].map(|v| format!("{:.4}", v.value)));
         t.row(cells);
     }
     t

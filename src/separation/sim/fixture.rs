@@ -66,6 +66,8 @@ pub fn two_satellites() -> Model {
         max_time_s: 1.0,
         max_steps: 100_000,
         output_interval_s: 0.01,
+        stall_speed_m_s: 0.01,
+        track_clearance_to_m: 0.0,
         dispersion: DispersionSpec::default(),
     }
 }

@@ -17,8 +17,10 @@
 //!    impact speed latched, edge past the tip, …) and the FSAL stage is refreshed;
 //! 4. update the contact states (eq. 38, `discrete`) and the per-satellite records
 //!    (`records`); check the state is finite (else stop with the time and body);
-//! 5. stop when every released satellite has left the bars (or at `max_time_s`), and assemble
-//!    the results (`records`, types in `results`); the energy audit is `energy`.
+//! 5. watch for satellites that stall on the bars (`wedging`); stop when every released
+//!    satellite has left the bars or stalled and consecutive satellites are
+//!    `track_clearance_to_m` apart (or at `max_time_s`), and assemble the results (`records`,
+//!    types in `results`); the energy audit is `energy`.
 //!
 //! Inputs: a [`Model`] (from `params`). Geometry: z is the stack axis; a satellite's bore
 //! edges are the bottom and top of its four columns (`points`); the bar centreline at height
@@ -48,9 +50,11 @@ mod releases;
 mod results;
 mod statics;
 mod stepping;
+mod wedging;
 
 pub use results::{
-    EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult,
+    EdgeLoad, EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult,
+    Stall,
 };
 
 use super::bar::ModalBar;
@@ -101,6 +105,8 @@ struct Sim<'a> {
     transitions: Transitions,
     contacts: Vec<usize>,
     exit: Vec<Option<(f64, V3, V3)>>,
+    /// Satellites that stalled on the bars (`wedging`).
+    stalled: Vec<bool>,
     tip_cut_loss: f64,
     e_ref: f64,
     /// Frames of the bodies that do not move (latched satellites, fixed carrier), by body.
@@ -143,6 +149,7 @@ impl<'a> Sim<'a> {
             transitions: Transitions::default(),
             contacts: vec![0; n],
             exit: vec![None; n],
+            stalled: vec![false; n],
             tip_cut_loss: 0.0,
             e_ref: m.spring_energy_j().max(1e-30),
             static_frames: vec![None; n + 1],

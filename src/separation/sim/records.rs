@@ -6,15 +6,23 @@ use super::super::body::BODY_STATES;
 use super::super::integrator::Dopri5;
 use super::Sim;
 use super::layout::{body_rate, body_velocity};
-use super::results::{History, PairClearance, SatelliteResult, SeparationResult};
+use super::results::{History, PairClearance, SatelliteResult, SeparationResult, Stall};
 
 /// Running records of one run.
 pub(super) struct Records {
-    max_speed: Vec<f64>,
+    pub(super) max_speed: Vec<f64>,
     max_acc: Vec<f64>,
     peak_rate: Vec<f64>,
     /// Smallest axial gap of each pair of neighbours while both are free, m.
     pair_min: Vec<f64>,
+    /// When each pair's gap first reached `track_clearance_to_m`, and its latest gap.
+    pub(super) apart_time: Vec<Option<f64>>,
+    last_gap: Vec<f64>,
+    /// Latched CG height of each satellite, m.
+    pub(super) z0: Vec<f64>,
+    /// Slowest axial speed on the bars after moving, and the stall (`wedging`).
+    pub(super) min_engaged_speed: Vec<Option<f64>>,
+    pub(super) stall: Vec<Option<Stall>>,
     max_rel_residual: f64,
     hist: Option<History>,
     /// Time of the next history sample, s.
@@ -30,6 +38,11 @@ impl Records {
             max_acc: vec![0.0f64; n],
             peak_rate: vec![0.0f64; n],
             pair_min: vec![f64::INFINITY; n.saturating_sub(1)],
+            apart_time: vec![None; n.saturating_sub(1)],
+            last_gap: vec![0.0; n.saturating_sub(1)],
+            z0: vec![0.0; n],
+            min_engaged_speed: vec![None; n],
+            stall: vec![None; n],
             max_rel_residual: 0.0f64,
             hist: record_history.then(|| History {
                 satellites: vec![Vec::new(); n],
@@ -67,9 +80,14 @@ impl Sim<'_> {
             rec.max_acc[i] = rec.max_acc[i].max(body_velocity(dyv, i + 1).norm());
             rec.peak_rate[i] = rec.peak_rate[i].max(w.norm().to_degrees());
         }
-        for (k, pm) in rec.pair_min.iter_mut().enumerate() {
+        for k in 0..rec.pair_min.len() {
             if self.free[k + 1] && self.free[k + 2] {
-                *pm = pm.min(self.pair_gap(&ig.y, k + 1));
+                let gap = self.pair_gap(&ig.y, k + 1);
+                rec.pair_min[k] = rec.pair_min[k].min(gap);
+                rec.last_gap[k] = gap;
+                if rec.apart_time[k].is_none() && gap >= self.m.track_clearance_to_m {
+                    rec.apart_time[k] = Some(ig.t);
+                }
             }
         }
         if ig.stats.steps.is_multiple_of(8) {
@@ -138,12 +156,15 @@ impl Sim<'_> {
                 upper: k + 1,
                 min_clearance_m: rec.pair_min[k],
                 closing_speed_m_s: body_velocity(y, k + 2)[2] - body_velocity(y, k + 1)[2],
+                apart_time_s: rec.apart_time[k],
+                final_gap_m: rec.last_gap[k],
             })
             .collect();
         let min_clearance_m = pair_clearances
             .iter()
             .map(|p| p.min_clearance_m)
             .reduce(f64::min);
+        let clearance_tracked_to_distance = self.pairs_apart(&rec);
         SeparationResult {
             satellites,
             energy,
@@ -152,6 +173,7 @@ impl Sim<'_> {
             end_time_s: ig.t,
             pair_clearances,
             min_clearance_m,
+            clearance_tracked_to_distance,
             history: rec.hist,
         }
     }
@@ -173,6 +195,9 @@ impl Sim<'_> {
             final_rate_body_deg_s: (w * (180.0 / std::f64::consts::PI)).into(),
             exit_time_s: self.exit[i].map(|_| t_exit - rel.unwrap_or(0.0)),
             contacts: self.contacts[i],
+            min_engaged_speed_m_s: rec.min_engaged_speed[i],
+            stall: rec.stall[i].clone(),
+            wedged: self.stalled[i] || (self.free[i + 1] && self.exit[i].is_none()),
         }
     }
 }

@@ -34,6 +34,37 @@ pub struct SatelliteResult {
     pub exit_time_s: Option<f64>,
     /// Contact onsets on its bore edges.
     pub contacts: usize,
+    /// Slowest axial speed while its bores were on the bars, after it first moved at twice
+    /// the stall speed; `None` if it never did, m/s.
+    pub min_engaged_speed_m_s: Option<f64>,
+    /// Where and how it stalled on the bars, if it did.
+    pub stall: Option<Stall>,
+    /// It stalled on the bars, or was released and never left them.
+    pub wedged: bool,
+}
+
+/// A satellite that stopped on the bars: when, where, and what held it.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Stall {
+    /// From its release, s.
+    pub time_s: f64,
+    /// Axial travel from its latched position, m.
+    pub travel_m: f64,
+    pub axial_speed_m_s: f64,
+    /// The bore edges pressed against their bars at that moment, largest load first.
+    pub loads: Vec<EdgeLoad>,
+    /// Friction coefficient of the run.
+    pub friction: f64,
+}
+
+/// The normal force of one bore edge on its bar.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq)]
+pub struct EdgeLoad {
+    /// Column 1..4.
+    pub column: usize,
+    /// `bottom` or `top` edge of the bore.
+    pub edge: &'static str,
+    pub normal_force_n: f64,
 }
 
 /// The energy audit: spring work = kinetic + bar + contact elastic + losses (+ residual).
@@ -62,6 +93,11 @@ pub struct PairClearance {
     pub min_clearance_m: f64,
     /// Relative axial speed at the end of the run; positive = the lower one is catching up.
     pub closing_speed_m_s: f64,
+    /// When (from the unlock command) their gap first reached `track_clearance_to_m`; `None`:
+    /// not within the run, whose end then bounds the tracking, s.
+    pub apart_time_s: Option<f64>,
+    /// Their axial gap at the end of the run, m.
+    pub final_gap_m: f64,
 }
 
 /// Sampled histories for CSV output.
@@ -72,6 +108,20 @@ pub struct History {
     pub satellites: Vec<Vec<[f64; 11]>>,
     /// [spring work, kinetic, bar, contact elastic, losses, residual], J.
     pub energy: Vec<[f64; 6]>,
+}
+
+impl SeparationResult {
+    /// The smallest clearance between consecutive satellites over the run, or 0 when a pair
+    /// that was not yet `track_clearance_to_m` apart at the end is closing: in free flight it
+    /// will touch. `None` with fewer than two released satellites.
+    pub fn projected_min_clearance_m(&self) -> Option<f64> {
+        let closing = self
+            .pair_clearances
+            .iter()
+            .any(|p| p.apart_time_s.is_none() && p.closing_speed_m_s > 0.0);
+        self.min_clearance_m
+            .map(|c| if closing { c.min(0.0) } else { c })
+    }
 }
 
 /// The results of one run.
@@ -85,6 +135,8 @@ pub struct SeparationResult {
     pub pair_clearances: Vec<PairClearance>,
     /// Smallest of the pair clearances, m.
     pub min_clearance_m: Option<f64>,
+    /// Every tracked pair reached `track_clearance_to_m` before the run ended.
+    pub clearance_tracked_to_distance: bool,
     #[serde(skip)]
     pub history: Option<History>,
 }

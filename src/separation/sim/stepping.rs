@@ -4,6 +4,7 @@
 //! a discrete change, and update the records; stop when every released satellite has left
 //! the bars.
 
+use super::super::body::BODY_STATES;
 use super::super::integrator::{Dopri5, StepFailure};
 use super::Sim;
 use super::records::Records;
@@ -43,13 +44,15 @@ impl Sim<'_> {
     pub(super) fn run(&mut self, opts: &RunOptions) -> Result<SeparationResult, SeparationError> {
         let mut st = self.start();
         let mut rec = Records::new(self.n, opts.record_history, self.dim);
-        while !self.finished(&st) {
+        rec.z0 = (1..=self.n).map(|b| st.ig.y[BODY_STATES * b + 2]).collect();
+        while !self.finished(&st, &rec) {
             self.advance(&mut st)?;
             let events_at_t = self.resolve_events(&mut st)?;
             self.sample_history(&st.ig, &mut rec);
             let changed = self.apply_discrete_changes(&mut st, &events_at_t);
             self.restart(&mut st, changed, &events_at_t);
             self.update_records(&st.ig, &mut rec);
+            self.watch_stalls(&st.ig, &mut rec);
         }
         Ok(self.results(&st.ig, rec))
     }
@@ -100,14 +103,15 @@ impl Sim<'_> {
         }
     }
 
-    /// Every released satellite has left the bars and no release is pending, or the time is
-    /// up.
-    fn finished(&self, st: &Stepper) -> bool {
+    /// Every released satellite has left the bars (or stalled on them), no release is
+    /// pending and consecutive satellites are far enough apart; or the time is up.
+    fn finished(&self, st: &Stepper, rec: &Records) -> bool {
         let released_any = self.released.iter().any(|&r| r);
         let all_out = (1..=self.n)
             .filter(|&i| self.free[i])
-            .all(|i| self.exit[i - 1].is_some());
-        (released_any && all_out && !st.release_pending()) || st.ig.t >= self.m.max_time_s
+            .all(|i| self.exit[i - 1].is_some() || self.stalled[i - 1]);
+        let done = released_any && all_out && !st.release_pending() && self.pairs_apart(rec);
+        done || st.ig.t >= self.m.max_time_s
     }
 
     /// One accepted step, to at most the next release; errors on the step budget, a failed
