@@ -12,6 +12,9 @@ mod common;
 // Every command's output, byte for byte.
 mod golden;
 
+// Where commands write, what they print on stderr.
+mod cli_output;
+
 // FE core and modal solvers.
 mod cli_modal;
 mod fem_verification;

@@ -12,6 +12,7 @@ mod expand;
 mod frf;
 mod merge;
 mod modal;
+mod progress;
 mod psd;
 mod qualify;
 mod random;

@@ -2,10 +2,10 @@
 //! the report folder (HTML, Markdown, results.json, curves). Exit 0 when every gate passes,
 //! 1 when one fails (the report is still written), 2 on bad input or a failed run.
 
+use super::progress::Progress;
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::gates::{Group, Verdict};
-use satqual::pipeline::Progress;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -22,20 +22,6 @@ pub struct Args {
     /// No progress or summary on stderr.
     #[arg(long)]
     pub quiet: bool,
-}
-
-/// Progress on stderr through an indicatif spinner, which draws only when stderr is a
-/// terminal and the stage takes long enough to be worth it.
-struct Spinner {
-    bar: Option<indicatif::ProgressBar>,
-}
-
-impl Progress for Spinner {
-    fn stage(&self, name: &str) {
-        if let Some(b) = &self.bar {
-            b.set_message(name.to_string());
-        }
-    }
 }
 
 /// A gate's name, value and limit with their unit, and margin, on one line.
@@ -75,18 +61,9 @@ fn worst_failed_per_kind<'a>(
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let scene = satqual::spec::Scene::load(&args.scene)?;
-    let bar = if args.quiet {
-        None
-    } else {
-        let b = indicatif::ProgressBar::new_spinner();
-        b.enable_steady_tick(std::time::Duration::from_millis(200));
-        Some(b)
-    };
-    let spinner = Spinner { bar };
-    let q = satqual::pipeline::qualify(&scene, &spinner);
-    if let Some(b) = &spinner.bar {
-        b.finish_and_clear();
-    }
+    let progress = Progress::start(args.quiet, args.json, "qualify");
+    let q = satqual::pipeline::qualify(&scene, &progress);
+    progress.finish();
     let q = q?;
     let out = args
         .out

@@ -2,6 +2,7 @@
 //! per axis: Grms and 3σ of every response point (with Miles' cross-check), joint and
 //! guide-bar 3σ loads, and the lock-integrity margins.
 
+use super::progress::Progress;
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::{plan, workflows};
@@ -23,6 +24,9 @@ pub struct Args {
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
+    /// No progress on stderr.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 #[derive(Serialize)]
@@ -38,7 +42,9 @@ struct Output<'a> {
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let scene = satqual::spec::Scene::load(&args.scene)?;
     let plan = plan::random_command(&scene, args.axis.as_deref())?;
+    let progress = Progress::start(args.quiet, args.json, "random response");
     let run = workflows::response::random(&scene, &plan)?;
+    progress.finish();
     let results = &run.axes;
     let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
     let damping = super::sine::damping_text(&run.damping, scene.file.damping.is_some());

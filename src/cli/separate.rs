@@ -4,9 +4,9 @@
 //! only shard I's realizations and writes them to the part file `--out`; `satqual merge`
 //! joins the parts. With `--sweep` it runs the scene's `[sweep]` instead (`separate_sweep`).
 
+use super::progress::Progress;
 use super::{Outcome, Printer};
 use satqual::Error;
-use satqual::pipeline::Silent;
 use satqual::pipeline::fnv1a;
 use satqual::pipeline::plan::MonteCarloPlan;
 use satqual::pipeline::workflows::{self, separate::SeparateRequest, separate::SeparateRun};
@@ -50,6 +50,9 @@ pub struct Args {
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
+    /// No progress on stderr.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 #[derive(Serialize)]
@@ -92,7 +95,10 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         result,
         monte_carlo: mc,
         ..
-    } = workflows::separate::run(&scene, &req, &Silent)?;
+    } = {
+        let progress = Progress::start(args.quiet, args.json, "separation");
+        workflows::separate::run(&scene, &req, &progress)?
+    };
     if let (Some(dir), Some(h)) = (&args.out, &result.history) {
         write_histories(dir, h)?;
     }

@@ -1,6 +1,7 @@
 //! `satqual sine`: base-driven sine-sweep response of a scene's `[sine]` level, per axis:
 //! response-point peaks, joint loads, guide-bar stresses and the lock-integrity margins.
 
+use super::progress::Progress;
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::gates::Verdict;
@@ -23,6 +24,9 @@ pub struct Args {
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
+    /// No progress on stderr.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 #[derive(Serialize)]
@@ -54,7 +58,9 @@ pub fn damping_text(d: &satqual::spec::analysis::DampingSpec, given: bool) -> St
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let scene = satqual::spec::Scene::load(&args.scene)?;
     let plan = plan::sine_command(&scene, args.axis.as_deref())?;
+    let progress = Progress::start(args.quiet, args.json, "sine response");
     let run = workflows::response::sine(&scene, &plan)?;
+    progress.finish();
     let (spec, results) = (&plan.spec, &run.axes);
     let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
     let p = Printer::new(args.json);

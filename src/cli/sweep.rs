@@ -2,6 +2,7 @@
 //! phase per unit control, against the instantaneous drive frequency, and its dominant
 //! resonance (fn, half-power Q). `--out DIR` writes sweep.csv and a log-log plot of |H|.
 
+use super::progress::Progress;
 use super::psd::{DialectArgs, parse_units};
 use super::{Outcome, Printer};
 use satqual::Error;
@@ -44,6 +45,9 @@ pub struct Args {
     pub dialect: DialectArgs,
     #[arg(long)]
     pub json: bool,
+    /// No progress on stderr.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
@@ -55,6 +59,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     };
     parse_units(args.units.as_deref(), &mut ingest)?;
     args.dialect.apply(&mut ingest)?;
+    let progress = Progress::start(args.quiet, args.json, "sweep tracking");
     let run = workflows::sweep::run(&SweepRequest {
         log: &args.log,
         control: &args.control,
@@ -66,6 +71,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             ..Default::default()
         },
     })?;
+    progress.finish();
     let (track, names) = (&run.track, &run.responses);
     let mut human = vec![format!(
         "{}: sweep tracked on `{}`, {} blocks, {:.2}–{:.2} Hz",

@@ -83,8 +83,13 @@ impl Frame {
         }
         if self.log_y {
             // Six decades below the top are enough to read a PSD; deeper tails are clipped.
-            self.y1 = self.y1.ceil();
+            self.y1 = self.y1.ceil().clamp(-299.0, 300.0);
             self.y0 = self.y0.floor().max(self.y1 - 6.0);
+        }
+        if self.log_x {
+            // A subnormal or a 1e308 must not stretch the axis over hundreds of decades.
+            self.x1 = self.x1.clamp(-299.0, 300.0);
+            self.x0 = self.x0.clamp(self.x1 - 10.0, self.x1);
         }
         if self.x1 - self.x0 <= 0.0 {
             self.x1 = self.x0 + 1.0;

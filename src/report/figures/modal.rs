@@ -4,7 +4,7 @@ use super::{Files, csv};
 use crate::error::Error;
 use crate::report::ModalSummary;
 use crate::report::document::Figure;
-use crate::report::plot::{Scale, Series, lines_svg};
+use crate::report::plot::{Options, Scale, Series, Style, chart_svg};
 
 /// Below this a mode is a rigid-body mode, with no place on a log frequency axis.
 const RIGID_BODY_HZ: f64 = 1e-3;
@@ -46,13 +46,16 @@ pub fn effective_mass(m: &ModalSummary, files: &mut Files) -> Result<Figure, Err
     Ok(Figure {
         stem: "effective_mass".into(),
         caption: "Effective-mass fraction of each mode against its frequency".into(),
-        svg: lines_svg(
+        svg: chart_svg(
             "Effective mass by mode",
             "frequency [Hz]",
             "fraction of total mass",
             &series,
-            Scale::Log,
-            Scale::Linear,
+            &[],
+            Options {
+                style: Style::Stems,
+                ..Options::lines(Scale::Log, Scale::Linear)
+            },
         )?,
     })
 }

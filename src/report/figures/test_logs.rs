@@ -4,7 +4,7 @@
 use super::{Files, csv};
 use crate::error::Error;
 use crate::report::document::Figure;
-use crate::report::plot::{Scale, Series, lines_svg};
+use crate::report::plot::{Options, Scale, Series, chart_svg, lines_svg};
 use crate::report::{TestDataSummary, TestLogResult};
 
 /// The curve an FRF log carries beside its |H1|; its presence marks the log as an FRF.
@@ -66,17 +66,26 @@ fn frf(stem: &str, log: &TestLogResult) -> Result<Figure, Error> {
     })
 }
 
+/// Coherence lies in [0, 1] by definition; a fitted axis would magnify the noise of a
+/// coherence near 1 into a solid band, so the axis is the whole [0, 1] range.
 fn coherence(stem: &str, log: &TestLogResult) -> Result<Figure, Error> {
+    let opts = Options {
+        y_range: Some((0.0, 1.05)),
+        ..Options::lines(Scale::Log, Scale::Linear)
+    };
     Ok(Figure {
         stem: format!("{stem}_coherence"),
-        caption: format!("{}: coherence", log.name),
-        svg: lines_svg(
+        caption: format!(
+            "{}: coherence γ² (1 = output fully explained by the input)",
+            log.name
+        ),
+        svg: chart_svg(
             &format!("{}: coherence", log.name),
             "frequency [Hz]",
             "γ²",
             &series(log, |l| l == COHERENCE),
-            Scale::Log,
-            Scale::Linear,
+            &[],
+            opts,
         )?,
     })
 }
