@@ -59,13 +59,11 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     }
     // Fail here, not on the cluster, when the scene does not load.
     let scene = satqual::spec::Scene::load(&args.scene)?;
-    let disp = scene
-        .file
-        .separation
-        .as_ref()
-        .map(|s| (s.dispersion.runs, s.dispersion.seed))
-        .unwrap_or_default();
-    let runs = args.monte_carlo.unwrap_or(disp.0);
+    let disp = satqual::pipeline::plan::dispersion_monte_carlo(&scene)?;
+    let runs = args
+        .monte_carlo
+        .or(disp.as_ref().map(|m| m.runs))
+        .unwrap_or(0);
     if runs == 0 {
         return Err(Error::Other(format!(
             "{}: no Monte Carlo runs: give --monte-carlo N or [separation.dispersion] runs",
@@ -80,7 +78,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         workdir: cwd,
         scene: args.scene.display().to_string(),
         runs,
-        seed: args.seed.unwrap_or(disp.1),
+        seed: args.seed.unwrap_or(scene_seed(&scene)),
         shards: args.shards,
         dir: dir.clone(),
         partition: args.partition,
@@ -115,4 +113,14 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
 
 fn write(path: &Path, text: &str) -> Result<(), Error> {
     write_atomic(path, text.as_bytes())
+}
+
+/// The scene's Monte Carlo seed, also when its `runs` ask for no Monte Carlo (0 without a
+/// `[separation]`).
+fn scene_seed(scene: &satqual::spec::Scene) -> u64 {
+    scene
+        .file
+        .separation
+        .as_ref()
+        .map_or(0, |s| s.dispersion.seed)
 }

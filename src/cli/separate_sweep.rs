@@ -19,14 +19,12 @@ pub fn run(
     scene: &Scene,
     shard: Option<Shard>,
 ) -> Result<Outcome, Error> {
-    let disp = scene
-        .file
-        .separation
-        .as_ref()
-        .map(|s| (s.dispersion.runs, s.dispersion.seed))
-        .unwrap_or_default();
-    let runs = args.monte_carlo.unwrap_or(disp.0);
-    let seed = args.seed.unwrap_or(disp.1);
+    let disp = satqual::pipeline::plan::dispersion_monte_carlo(&scene)?;
+    let runs = args
+        .monte_carlo
+        .or(disp.as_ref().map(|m| m.runs))
+        .unwrap_or(0);
+    let seed = args.seed.unwrap_or(scene_seed(&scene));
     let job = SweepJob::new(scene, runs, seed)?;
     if let Some(shard) = shard {
         let out = args.out.as_deref().unwrap_or(Path::new("part.json"));
@@ -103,8 +101,8 @@ pub fn finish(p: &Printer, t: &SweepTable, dir: &Path) -> Result<Outcome, Error>
             "  {:>5}  {}  {:>11.4}  {:>11.3}  {}",
             q.point,
             values.join("  "),
-            q.final_speed_m_s.p0_27,
-            q.tip_off_rate_deg_s.p99_73,
+            q.final_speed_m_s.p0_27.value,
+            q.tip_off_rate_deg_s.p99_73.value,
             if q.pass { "pass" } else { "FAIL" }
         );
     }
@@ -112,4 +110,14 @@ pub fn finish(p: &Printer, t: &SweepTable, dir: &Path) -> Result<Outcome, Error>
     p.human(&s);
     p.json(t)?;
     Ok(Outcome::Pass)
+}
+
+/// The scene's Monte Carlo seed, also when its `runs` ask for no Monte Carlo (0 without a
+/// `[separation]`).
+fn scene_seed(scene: &satqual::spec::Scene) -> u64 {
+    scene
+        .file
+        .separation
+        .as_ref()
+        .map_or(0, |s| s.dispersion.seed)
 }

@@ -200,6 +200,11 @@ fn separation_plan(scene: &Scene) -> Result<Option<(SeparationPlan, Option<Strin
     Ok(Some((SeparationPlan { monte_carlo }, runs.err())))
 }
 
+/// The runs and seed of the Monte Carlo a scene's `[separation.dispersion]` asks for, if any.
+pub fn dispersion_monte_carlo(scene: &Scene) -> Result<Option<MonteCarloPlan>, Error> {
+    Ok(separation_plan(scene)?.and_then(|(plan, _)| plan.monte_carlo))
+}
+
 /// The fewest runs whose extreme sample bounds `probability` at `confidence` (Wilks).
 fn auto_runs(scene: &Scene, probability: f64, confidence: f64) -> Result<usize, Error> {
     let n = order_stats::runs_needed(probability, confidence).unwrap_or(usize::MAX);
