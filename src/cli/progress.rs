@@ -15,7 +15,8 @@ pub struct Progress {
 
 /// Whether progress may be drawn, by the rules of the module comment.
 pub fn visible(quiet: bool, json: bool) -> bool {
-    !quiet && !(json && !std::io::stdout().is_terminal()) && std::io::stderr().is_terminal()
+    let json_piped = json && !std::io::stdout().is_terminal();
+    !quiet && !json_piped && std::io::stderr().is_terminal()
 }
 
 impl Progress {

@@ -25,9 +25,10 @@ pub fn margin_text(g: &Verdict) -> String {
     if !g.margin.is_finite() {
         "–".into()
     } else if g.limit == 0.0 && !g.unit.is_empty() && g.unit != "%" {
-        format!("{:+.4} {}", g.margin, g.unit)
+        format!("{:+.4} {}", g.margin + 0.0, g.unit)
     } else {
-        format!("{:+.1}%", g.margin * 100.0)
+        // + 0.0 turns a −0 margin (nothing outside a band) into +0.
+        format!("{:+.1}%", g.margin * 100.0 + 0.0)
     }
 }
 
@@ -82,5 +83,7 @@ mod tests {
         assert_eq!(margin_text(&f), "+20.0%");
         let c = crate::gates::above("gap", 0.5872, 0.0, "t").with_unit("m");
         assert_eq!(margin_text(&c), "+0.5872 m");
+        let none_outside = crate::gates::Verdict::gate("band", 0.0, 0.0, -0.0, true, "t");
+        assert_eq!(margin_text(&none_outside), "+0.0%");
     }
 }

@@ -45,8 +45,16 @@ pub fn sentence(g: &Verdict) -> String {
 }
 
 /// A minimum or maximum criterion in words. The margin's sign follows value − limit for a
-/// minimum and limit − value for a maximum, which tells which one `g` is.
+/// minimum and limit − value for a maximum, which tells which one `g` is (at the limit
+/// itself it cannot tell, and says only that).
 fn bound_sentence(g: &Verdict, v: &str, l: &str) -> String {
+    if g.value == g.limit {
+        let verdict = if g.pass { "passes" } else { "fails" };
+        return format!(
+            "{} is {v}, at its limit, and {verdict}.",
+            capitalise(&subject(g))
+        );
+    }
     let minimum = (g.value >= g.limit) == (g.margin >= 0.0);
     let relation = match (minimum, g.pass) {
         (true, true) => "meets the minimum of",
