@@ -34,6 +34,9 @@ pub const SPARSE_MIN_MODES: usize = 50;
 /// conditioning checks, and needs no Sturm proof. It keeps the verification scenes (≤ 240
 /// DOFs) and the 2-satellite shaker model (284) on the path their goldens were made with.
 pub const AUTO_DENSE_DOFS: usize = 300;
+/// Up to this many reduced DOFs `Auto` solves a model past its buckling load densely (see
+/// `analyze`): the cost model's count cannot see its negative modes.
+pub const AUTO_UNSTABLE_DENSE_DOFS: usize = 1500;
 
 /// Whether `Auto` takes the sparse path for `k` modes of an n-DOF model: when its modelled
 /// cost is below the dense one's. On the 6-satellite stack at 2 kHz (692 DOFs, 300 modes) the
@@ -217,6 +220,18 @@ pub fn analyze(model: &FeModel, opts: &ModalOptions) -> Result<ModalSystem, crat
         k.extend(kg);
         prestress = Some(summary);
     }
+    // Past buckling (a caller that opted out of stopping) K + K_G has negative eigenvalues
+    // that the count taken for the cost model could not see, and the sparse solver must first
+    // find a shift below all of them: `Auto` keeps such a model dense up to
+    // AUTO_UNSTABLE_DENSE_DOFS, as it was before the cost model.
+    let unstable = prestress
+        .as_ref()
+        .and_then(|p| p.buckling_factor)
+        .is_some_and(|f| f < 1.0);
+    let use_sparse = use_sparse
+        && !(unstable
+            && matches!(opts.solver, SolverChoice::Auto)
+            && red.n_red <= AUTO_UNSTABLE_DENSE_DOFS);
     let result = if use_sparse {
         sparse_modes(model, &red, &m_full, (&k, &m), opts, prestress)?
     } else {
