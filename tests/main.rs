@@ -39,6 +39,7 @@ mod separation_montecarlo;
 mod campaign;
 
 // Test-log signal processing.
+mod ema;
 mod signal_bands;
 mod signal_dialects;
 mod signal_frf;
