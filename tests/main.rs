@@ -39,6 +39,7 @@ mod separation_montecarlo;
 mod campaign;
 
 // Test-log signal processing.
+mod damping;
 mod ema;
 mod signal_bands;
 mod signal_dialects;
