@@ -287,3 +287,34 @@ fn ema_bad_inputs_are_located_errors() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("fewer than order + 2"), "{err}");
 }
+
+#[test]
+fn ema_write_damping_edits_the_scene_and_keeps_its_comments() {
+    let dir = temp_dir("ema-write-damping");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("shaker.toml");
+    let original = std::fs::read_to_string("test-specs/shaker-2sat.toml").unwrap();
+    std::fs::write(&scene, &original).unwrap();
+    let (ours, _) = impact_ema(&["--write-damping", scene.to_str().unwrap()]);
+    let edited = std::fs::read_to_string(&scene).unwrap();
+    // Every comment line of the original survives.
+    for line in original.lines().filter(|l| l.trim_start().starts_with('#')) {
+        assert!(edited.contains(line), "lost comment {line:?}");
+    }
+    assert!(edited.contains("# replaced by `satqual ema --write-damping`: q = 15.0"));
+    let loaded = satqual::spec::Scene::parse(&scene, &edited).unwrap();
+    let d = loaded.file.damping.unwrap();
+    let table = d.table.unwrap();
+    let modes = ours["modes"].as_array().unwrap();
+    assert_eq!(table.len(), modes.len());
+    for (p, m) in table.iter().zip(modes) {
+        // Written to 4 decimals in f and 6 in ζ.
+        assert!((p[0] - m["frequency_hz"].as_f64().unwrap()).abs() <= 5e-5);
+        assert!((p[1] - m["damping_ratio"].as_f64().unwrap()).abs() <= 5e-7);
+    }
+    assert_eq!(d.q, None);
+    assert_eq!(
+        edited.matches("# satqual ema --method lscf").count(),
+        modes.len()
+    );
+}

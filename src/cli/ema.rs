@@ -71,6 +71,10 @@ pub struct Args {
     /// Folder for stabilization.svg and reconstruction.svg.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write the identified damping into this scene's [damping] as a frequency table (every
+    /// comment kept, each point annotated with its source).
+    #[arg(long)]
+    pub write_damping: Option<PathBuf>,
     #[command(flatten)]
     pub dialect: DialectArgs,
     #[arg(long)]
@@ -150,6 +154,14 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         write_atomic(path, frf_csv(&run.set).as_bytes())?;
         human.push(format!("  wrote {}", path.display()));
     }
+    if let Some(scene) = &args.write_damping {
+        write_damping(scene, m, &args)?;
+        human.push(format!(
+            "  wrote the damping of {} mode(s) into {} [damping].table",
+            m.modes.len(),
+            scene.display()
+        ));
+    }
     if let Some(dir) = &args.out {
         write_figures(dir, m, &args.input)?;
         human.push(format!(
@@ -211,6 +223,52 @@ fn result_json(
         "modes": m.modes,
         "notes": m.notes,
     })
+}
+
+/// The identified ratios into `scene`'s `[damping]`; the edited scene must load before it
+/// replaces the file.
+fn write_damping(scene: &Path, m: &EmaModel, args: &Args) -> Result<(), Error> {
+    use satqual::spec::damping_edit::{IdentifiedDamping, with_identified_damping};
+    let text = std::fs::read_to_string(scene).map_err(|e| Error::io(scene, e))?;
+    let logs: Vec<String> = args
+        .logs
+        .iter()
+        .map(|l| {
+            l.file_name().map_or_else(
+                || l.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            )
+        })
+        .collect();
+    let points: Vec<IdentifiedDamping> = m
+        .modes
+        .iter()
+        .enumerate()
+        .map(|(i, x)| IdentifiedDamping {
+            frequency_hz: x.frequency_hz,
+            zeta: x.damping_ratio,
+            source: format!(
+                "satqual ema --method {} ({} / {}, {}): mode {} at {:.4} Hz, zeta {:.6}, MPC {:.3}",
+                args.method,
+                args.output.join(","),
+                args.input,
+                logs.join(" "),
+                i + 1,
+                x.frequency_hz,
+                x.damping_ratio,
+                x.mpc
+            ),
+        })
+        .collect();
+    let edited = with_identified_damping(&text, &points)
+        .map_err(|e| Error::Other(format!("{}: --write-damping: {e}", scene.display())))?;
+    satqual::spec::Scene::parse(scene, &edited).map_err(|e| {
+        Error::Other(format!(
+            "{}: --write-damping: the edited scene does not load, left unchanged: {e}",
+            scene.display()
+        ))
+    })?;
+    write_atomic(scene, edited.as_bytes())
 }
 
 fn frf_csv(set: &FrfSet) -> String {
