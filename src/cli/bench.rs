@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Which table: fem, modal, response, psd, separation.
+    /// Which table: fem, modal, response, psd, separation, ema.
     pub what: String,
     /// Output folder.
     #[arg(long, default_value = "reports/bench")]
