@@ -45,6 +45,8 @@ mod campaign;
 mod param_sweep;
 
 // Test-log signal processing.
+mod damping;
+mod ema;
 mod signal_bands;
 mod signal_dialects;
 mod signal_frf;

@@ -1,12 +1,14 @@
 //! Work-precision tables (run time against error) for `satqual bench WHAT`: mesh density for
 //! the FE core, the sparse modal solver against scipy's eigsh, the response grids and modal
-//! truncation, the streamed PSD against scipy, and the separation integrator's tolerance.
+//! truncation, the streamed PSD against scipy, the separation integrator's tolerance, and the
+//! modal identification (LSCF) against noise and model order.
 //!
 //! Unlike the analyses, a benchmark does I/O: it times runs, writes its table as JSON and
 //! Markdown to the output folder, and may call Python peers (skipped when absent). The
 //! problems come from [`crate::catalogue`], as in the tests. Timings are measured here,
 //! never asserted in tests.
 
+mod ema;
 mod fem;
 mod modal;
 mod modal_sweep;
@@ -18,7 +20,7 @@ use crate::Error;
 use std::path::Path;
 
 /// The benchmarks, by the name `satqual bench` takes.
-pub const NAMES: [&str; 5] = ["fem", "modal", "response", "psd", "separation"];
+pub const NAMES: [&str; 6] = ["fem", "modal", "response", "psd", "separation", "ema"];
 
 /// A finished benchmark: its table, as written to `<out>/<name>.json` and `<name>.md`.
 #[derive(Debug, Clone)]
@@ -38,6 +40,7 @@ pub fn run(name: &str, out: &Path) -> Result<Table, Error> {
         "response" => ("response", response::run()?),
         "psd" => ("psd", psd::run()?),
         "separation" => ("separation", separation::run()?),
+        "ema" => ("ema", ema::run()?),
         other => {
             return Err(Error::Other(format!(
                 "unknown benchmark `{other}` (one of {})",

@@ -38,3 +38,67 @@ pub fn sdof_transmissibility_squared(f: f64) -> f64 {
     let c = 2.0 * SDOF_DAMPING_RATIO * r;
     (1.0 + c * c) / ((1.0 - r * r).powi(2) + c * c)
 }
+
+/// A 3-DOF chain for the modal-identification checks: masses 2, 1, 1.5 kg; springs
+/// ground–1 2e5 N/m, 1–2 1e5 N/m, 2–3 1.5e5 N/m; modal (proportional) damping 1 %, 2 %,
+/// 1.5 %; force at mass 1, acceleration of the three masses. Its accelerance is exact:
+/// H_o(ω) = −ω² Σ_r φ_o,r φ_1,r / (ω_r² − ω² + 2jζ_r ω_r ω), φ mass-normalised.
+pub struct ThreeDof {
+    /// Undamped natural frequencies, Hz, ascending.
+    pub frequencies_hz: [f64; 3],
+    pub damping: [f64; 3],
+    /// `shapes[r][o]`: mass-normalised mode r at mass o.
+    pub shapes: [[f64; 3]; 3],
+}
+
+pub fn three_dof() -> ThreeDof {
+    let m = [2.0, 1.0, 1.5];
+    let (k1, k2, k3) = (2e5, 1e5, 1.5e5);
+    let k = nalgebra::Matrix3::new(k1 + k2, -k2, 0.0, -k2, k2 + k3, -k3, 0.0, -k3, k3);
+    // Symmetric form M^-1/2 K M^-1/2, then φ = M^-1/2 v.
+    let s = nalgebra::Vector3::from_fn(|i, _| 1.0 / f64::sqrt(m[i]));
+    let a = nalgebra::Matrix3::from_fn(|i, j| s[i] * k[(i, j)] * s[j]);
+    let eig = a.symmetric_eigen();
+    let mut order: Vec<usize> = (0..3).collect();
+    order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    let frequencies_hz: Vec<f64> = order
+        .iter()
+        .map(|&r| eig.eigenvalues[r].sqrt() / (2.0 * PI))
+        .collect();
+    let shapes: Vec<[f64; 3]> = order
+        .iter()
+        .map(|&r| [0, 1, 2].map(|o| s[o] * eig.eigenvectors[(o, r)]))
+        .collect();
+    ThreeDof {
+        frequencies_hz: [frequencies_hz[0], frequencies_hz[1], frequencies_hz[2]],
+        damping: [0.01, 0.02, 0.015],
+        shapes: [shapes[0], shapes[1], shapes[2]],
+    }
+}
+
+impl ThreeDof {
+    /// Accelerance (m/s² per N) of masses 1..3 to a force at mass 1: `[o][k]` as (re, im).
+    pub fn accelerance(&self, freqs: &[f64]) -> Vec<Vec<(f64, f64)>> {
+        (0..3)
+            .map(|o| {
+                freqs
+                    .iter()
+                    .map(|&f| {
+                        let w = 2.0 * PI * f;
+                        let (mut re, mut im) = (0.0, 0.0);
+                        for r in 0..3 {
+                            let wr = 2.0 * PI * self.frequencies_hz[r];
+                            let g = self.shapes[r][o] * self.shapes[r][0];
+                            let (dr, di) = (wr * wr - w * w, 2.0 * self.damping[r] * wr * w);
+                            let d2 = dr * dr + di * di;
+                            // −ω² g / (dr + j di)
+                            re += -w * w * g * dr / d2;
+                            im += w * w * g * di / d2;
+                        }
+                        (re, im)
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}

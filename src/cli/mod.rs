@@ -8,6 +8,7 @@ use std::io::Write;
 
 mod bench;
 mod campaign;
+mod ema;
 mod expand;
 mod frf;
 mod merge;
@@ -56,6 +57,8 @@ pub enum Command {
     Psd(psd::Args),
     /// Frequency response H1/H2 and coherence between two channels, with resonances and Q.
     Frf(frf::Args),
+    /// Experimental modal analysis: modes, damping and shapes from FRFs (LSCF + LSFD, or peaks).
+    Ema(ema::Args),
     /// Compare the resonances of signatures taken before and after a test.
     Signature(signature::Args),
     /// Sine-sweep tracking: response per unit drive against drive frequency, fn and Q.
@@ -86,6 +89,7 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Bench(a) => bench::run(a),
         Command::Psd(a) => psd::run(a),
         Command::Frf(a) => frf::run(a),
+        Command::Ema(a) => ema::run(a),
         Command::Signature(a) => signature::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Srs(a) => srs::run(a),

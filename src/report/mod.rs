@@ -8,6 +8,7 @@ pub mod plot;
 pub mod qualify;
 pub mod render_html;
 pub mod render_md;
+pub mod stabilization_svg;
 pub mod svg_plot;
 pub mod sweep;
 

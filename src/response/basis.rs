@@ -159,9 +159,17 @@ pub fn build(
             }
         }
     }
+    // Modes by their number; the residual vector (past the kept modes) takes the base ζ.
     let zeta = omega
         .iter()
-        .map(|w| damping.zeta_at(w / (2.0 * std::f64::consts::PI)))
+        .enumerate()
+        .map(|(j, w)| {
+            let f = w / (2.0 * std::f64::consts::PI);
+            match modes[..keep].get(j) {
+                Some(m) => damping.zeta_of_mode(m.index, f),
+                None => damping.zeta_at(f),
+            }
+        })
         .collect();
     Ok(Basis {
         axis,

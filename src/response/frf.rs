@@ -146,7 +146,8 @@ impl DirectFrf {
         let mut scaled = mphi.clone();
         for j in 0..n {
             let w = lambda[j].max(0.0).sqrt();
-            let d = 2.0 * damping.zeta_at(w / (2.0 * std::f64::consts::PI)) * w;
+            // The whole spectrum, ascending like the modal solve: column j is mode j + 1.
+            let d = 2.0 * damping.zeta_of_mode(j + 1, w / (2.0 * std::f64::consts::PI)) * w;
             for i in 0..n {
                 scaled[(i, j)] *= d;
             }

@@ -16,6 +16,7 @@
 //! filter, ISO 18431-4) and its tolerance check against a shock specification.
 
 pub mod bands;
+pub mod ema;
 pub mod frf;
 pub mod ingest;
 pub mod logpsd;

@@ -10,7 +10,9 @@ use super::plausible;
 use crate::error::SpecError;
 use serde::{Deserialize, Serialize};
 
-/// Modal damping. Exactly one of `q`, `zeta` or `table`; absent section = [`DEFAULT_Q`].
+/// Modal damping. Exactly one of `q`, `zeta` or `table` (the base, for every mode), and
+/// optionally `modes`, per-mode values that take precedence over the base for the modes they
+/// name (e.g. ratios identified by `satqual ema`); absent section = [`DEFAULT_Q`].
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DampingSpec {
@@ -20,9 +22,25 @@ pub struct DampingSpec {
     /// Critical-damping ratio ζ of every mode.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub zeta: Option<f64>,
-    /// `[[f_hz, zeta], ...]`, increasing f; linear interpolation in f, constant beyond the ends.
+    /// `[[f_hz, zeta], ...]`, increasing f; interpolated as `interpolation` says, constant
+    /// beyond the ends.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table: Option<Vec<[f64; 2]>>,
+    /// How `table` is read between its points: `linear` (ζ linear in f, as Nastran's TABDMP1)
+    /// or `log` (log ζ linear in log f).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interpolation: Option<String>,
+    /// Per-mode ratios, by 1-based mode number.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modes: Option<Vec<ModeDamping>>,
+}
+
+/// The damping ratio of one mode, by its 1-based number in frequency order.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ModeDamping {
+    pub mode: usize,
+    pub zeta: f64,
 }
 
 /// Default amplification when a scene asks for a response but gives no `[damping]`: Q = 10
@@ -31,7 +49,17 @@ pub struct DampingSpec {
 pub const DEFAULT_Q: f64 = 10.0;
 
 impl DampingSpec {
-    /// ζ at frequency `f_hz`.
+    /// ζ of mode `number` (1-based) at frequency `f_hz`: its `modes` entry when there is one,
+    /// the base otherwise.
+    pub fn zeta_of_mode(&self, number: usize, f_hz: f64) -> f64 {
+        self.modes
+            .iter()
+            .flatten()
+            .find(|m| m.mode == number)
+            .map_or_else(|| self.zeta_at(f_hz), |m| m.zeta)
+    }
+
+    /// The base ζ at frequency `f_hz` (what a mode without a `modes` entry gets).
     pub fn zeta_at(&self, f_hz: f64) -> f64 {
         if let Some(z) = self.zeta {
             return z;
@@ -42,19 +70,31 @@ impl DampingSpec {
         if let Some(t) = &self.table
             && !t.is_empty()
         {
-            if f_hz <= t[0][0] {
-                return t[0][1];
-            }
-            for w in t.windows(2) {
-                if f_hz <= w[1][0] {
-                    let s = (f_hz - w[0][0]) / (w[1][0] - w[0][0]);
-                    return w[0][1] + s * (w[1][1] - w[0][1]);
-                }
-            }
-            return t[t.len() - 1][1];
+            return table_zeta(t, f_hz, self.interpolation.as_deref() == Some("log"));
         }
         0.5 / DEFAULT_Q
     }
+}
+
+/// ζ(f) from the table: constant beyond the ends (TABDMP1 with FLAT = 1: Nastran's default
+/// extrapolates linearly, which can drive ζ negative past a falling end); between points
+/// linear in f and ζ, or, with `log`, linear in log f and log ζ.
+fn table_zeta(t: &[[f64; 2]], f_hz: f64, log: bool) -> f64 {
+    if f_hz <= t[0][0] {
+        return t[0][1];
+    }
+    for w in t.windows(2) {
+        if f_hz <= w[1][0] {
+            let (f0, z0, f1, z1) = (w[0][0], w[0][1], w[1][0], w[1][1]);
+            return if log {
+                let s = (f_hz / f0).ln() / (f1 / f0).ln();
+                z0 * (z1 / z0).powf(s)
+            } else {
+                z0 + (f_hz - f0) / (f1 - f0) * (z1 - z0)
+            };
+        }
+    }
+    t[t.len() - 1][1]
 }
 
 /// One segment of a sine-sweep level: a zero-to-peak base displacement (a = (2πf)²·d) or a
@@ -321,6 +361,47 @@ fn validate_random_source(r: &RandomSpec, loc: &Locator) -> Result<(), SpecError
     Ok(())
 }
 
+/// `damping.interpolation` and `damping.modes`.
+fn validate_mode_damping(d: &DampingSpec, loc: &Locator) -> Result<(), SpecError> {
+    if let Some(i) = &d.interpolation {
+        if i != "linear" && i != "log" {
+            return Err(loc.err(
+                "damping.interpolation",
+                format!("expected `linear` or `log`, got `{i}`"),
+            ));
+        }
+        let Some(t) = &d.table else {
+            return Err(loc.err("damping.interpolation", "applies to `table` only"));
+        };
+        if i == "log" && t.first().is_some_and(|p| p[0] <= 0.0) {
+            return Err(loc.err(
+                "damping.table[0]",
+                "log interpolation needs frequencies above 0 Hz",
+            ));
+        }
+    }
+    for (i, m) in d.modes.iter().flatten().enumerate() {
+        let k = format!("damping.modes[{i}]");
+        if m.mode == 0 {
+            return Err(loc.err(&format!("{k}.mode"), "modes are numbered from 1"));
+        }
+        if d.modes.iter().flatten().take(i).any(|o| o.mode == m.mode) {
+            return Err(loc.err(
+                &format!("{k}.mode"),
+                format!("mode {} is given twice", m.mode),
+            ));
+        }
+        if !(m.zeta > 0.0 && m.zeta < 1.0) {
+            return Err(loc.err(
+                &format!("{k}.zeta"),
+                format!("the damping ratio must lie in (0, 1), got {}", m.zeta),
+            ));
+        }
+        plausible::check(loc, &format!("{k}.zeta"), m.zeta, plausible::ZETA)?;
+    }
+    Ok(())
+}
+
 /// Checks `[random]`: its source, then the explicit profile's points and the duration.
 fn validate_random(r: &RandomSpec, loc: &Locator) -> Result<(), SpecError> {
     let check_axes = axes_checker(loc);
@@ -397,8 +478,12 @@ pub fn validate(
             .filter(|&&b| b)
             .count();
         if given != 1 {
-            return Err(loc.err("damping", "give exactly one of `q`, `zeta` or `table`"));
+            return Err(loc.err(
+                "damping",
+                "give exactly one of `q`, `zeta` or `table` (with `modes`, it is the damping of the modes `modes` does not list)",
+            ));
         }
+        validate_mode_damping(d, loc)?;
         if let Some(q) = d.q
             && q <= 0.5
         {

@@ -8,6 +8,7 @@
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod analysis;
+pub mod damping_edit;
 #[cfg(test)]
 mod doc_keys;
 pub mod environment;

@@ -1,0 +1,113 @@
+//! Writes identified damping into a scene's `[damping]` as a frequency table, editing the
+//! text with `toml_edit` so that every comment and every other key stays as written. Each
+//! table point carries a comment naming where it came from; a `q` or `zeta` the table replaces
+//! is kept as a comment above it.
+
+use toml_edit::{Array, DocumentMut, Item, Value};
+
+/// One identified mode: frequency (Hz), damping ratio and a one-line note of its source.
+pub struct IdentifiedDamping {
+    pub frequency_hz: f64,
+    pub zeta: f64,
+    pub source: String,
+}
+
+/// `text` with `[damping]` holding `table = [[f, ζ], …]` from `points` (ascending in f,
+/// distinct), `q`, `zeta` and `table` replaced; `interpolation` and `modes` are left alone.
+pub fn with_identified_damping(text: &str, points: &[IdentifiedDamping]) -> Result<String, String> {
+    if points.is_empty() {
+        return Err("no identified mode to write".into());
+    }
+    if let Some(w) = points
+        .windows(2)
+        .find(|w| w[1].frequency_hz <= w[0].frequency_hz)
+    {
+        return Err(format!(
+            "identified frequencies must increase: {} Hz follows {} Hz",
+            w[1].frequency_hz, w[0].frequency_hz
+        ));
+    }
+    let mut doc: DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
+    let damping = doc
+        .entry("damping")
+        .or_insert(Item::Table(toml_edit::Table::new()))
+        .as_table_mut()
+        .ok_or("`damping` is not a table")?;
+    let mut replaced = String::new();
+    for key in ["q", "zeta", "table"] {
+        if let Some(old) = damping.remove(key) {
+            let old = old.to_string();
+            let old = old.trim().replace('\n', " ");
+            replaced.push_str(&format!(
+                "# replaced by `satqual ema --write-damping`: {key} = {old}\n"
+            ));
+        }
+    }
+    let mut table = Array::new();
+    for p in points {
+        let mut pair = Array::new();
+        pair.push(round(p.frequency_hz, 4));
+        pair.push(round(p.zeta, 6));
+        let mut v = Value::Array(pair);
+        v.decor_mut()
+            .set_prefix(format!("\n    # {}\n    ", p.source));
+        table.push_formatted(v);
+    }
+    table.set_trailing("\n");
+    table.set_trailing_comma(true);
+    damping.insert("table", Item::Value(Value::Array(table)));
+    if !replaced.is_empty()
+        && let Some(mut key) = damping.key_mut("table")
+    {
+        key.leaf_decor_mut().set_prefix(replaced);
+    }
+    Ok(doc.to_string())
+}
+
+/// `v` to `digits` significant decimals after the point: the table reads as written.
+fn round(v: f64, digits: i32) -> f64 {
+    let s = 10f64.powi(digits);
+    (v * s).round() / s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn comments_survive_and_points_are_annotated() {
+        let text = "# the scene\ntitle = \"x\"\n\n# damping from the last test\n[damping]\nq = 15.0 # a guess\n\n[sine]\naxes = [\"x\"] # only x\n";
+        let pts = [
+            IdentifiedDamping {
+                frequency_hz: 10.0,
+                zeta: 0.012,
+                source: "ema a.csv mode 1".into(),
+            },
+            IdentifiedDamping {
+                frequency_hz: 30.0,
+                zeta: 0.02,
+                source: "ema a.csv mode 2".into(),
+            },
+        ];
+        let out = with_identified_damping(text, &pts).unwrap();
+        for kept in [
+            "# the scene",
+            "# damping from the last test",
+            "axes = [\"x\"] # only x",
+        ] {
+            assert!(out.contains(kept), "{out}");
+        }
+        assert!(
+            out.contains("# replaced by `satqual ema --write-damping`: q = 15.0"),
+            "{out}"
+        );
+        assert!(
+            out.contains("# ema a.csv mode 1\n    [10.0, 0.012]"),
+            "{out}"
+        );
+        let v: toml::Table = toml::from_str(&out).unwrap();
+        let t = v["damping"]["table"].as_array().unwrap();
+        assert_eq!(t.len(), 2);
+        assert!(v["damping"].get("q").is_none());
+    }
+}
