@@ -78,7 +78,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         workdir: cwd,
         scene: args.scene.display().to_string(),
         runs,
-        seed: args.seed.unwrap_or(scene_seed(&scene)),
+        seed: args
+            .seed
+            .unwrap_or(satqual::pipeline::plan::dispersion_seed(&scene)),
         shards: args.shards,
         dir: dir.clone(),
         partition: args.partition,
@@ -113,14 +115,4 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
 
 fn write(path: &Path, text: &str) -> Result<(), Error> {
     write_atomic(path, text.as_bytes())
-}
-
-/// The scene's Monte Carlo seed, also when its `runs` ask for no Monte Carlo (0 without a
-/// `[separation]`).
-fn scene_seed(scene: &satqual::spec::Scene) -> u64 {
-    scene
-        .file
-        .separation
-        .as_ref()
-        .map_or(0, |s| s.dispersion.seed)
 }

@@ -19,12 +19,14 @@ pub fn run(
     scene: &Scene,
     shard: Option<Shard>,
 ) -> Result<Outcome, Error> {
-    let disp = satqual::pipeline::plan::dispersion_monte_carlo(&scene)?;
+    let disp = satqual::pipeline::plan::dispersion_monte_carlo(scene)?;
     let runs = args
         .monte_carlo
         .or(disp.as_ref().map(|m| m.runs))
         .unwrap_or(0);
-    let seed = args.seed.unwrap_or(scene_seed(&scene));
+    let seed = args
+        .seed
+        .unwrap_or(satqual::pipeline::plan::dispersion_seed(scene));
     let job = SweepJob::new(scene, runs, seed)?;
     if let Some(shard) = shard {
         let out = args.out.as_deref().unwrap_or(Path::new("part.json"));
@@ -110,14 +112,4 @@ pub fn finish(p: &Printer, t: &SweepTable, dir: &Path) -> Result<Outcome, Error>
     p.human(&s);
     p.json(t)?;
     Ok(Outcome::Pass)
-}
-
-/// The scene's Monte Carlo seed, also when its `runs` ask for no Monte Carlo (0 without a
-/// `[separation]`).
-fn scene_seed(scene: &satqual::spec::Scene) -> u64 {
-    scene
-        .file
-        .separation
-        .as_ref()
-        .map_or(0, |s| s.dispersion.seed)
 }

@@ -17,8 +17,7 @@ const NO_RECONTACT: &str =
     "ASSUMPTION: satellites must not touch again after release (collision-free deployment)";
 const WEDGING: &str = "a satellite must not stall on the bars ([separation] stall_speed_m_s, \
                        ASSUMPTION)";
-const TIME_ON_BARS: &str =
-    "ASSUMPTION: every satellite must leave the bars within the simulated time ([separation] max_time_s)";
+const TIME_ON_BARS: &str = "ASSUMPTION: every satellite must leave the bars within the simulated time ([separation] max_time_s)";
 /// The largest margin a maximum reports: a value under 1/1000 of its limit (a tip-off rate of
 /// exactly 0 in a symmetric release) would otherwise give an infinite margin.
 pub const MAX_MARGIN: f64 = 999.0;

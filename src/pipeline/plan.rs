@@ -205,6 +205,16 @@ pub fn dispersion_monte_carlo(scene: &Scene) -> Result<Option<MonteCarloPlan>, E
     Ok(separation_plan(scene)?.and_then(|(plan, _)| plan.monte_carlo))
 }
 
+/// The scene's Monte Carlo seed, also when its `runs` ask for no Monte Carlo (0 without a
+/// `[separation]`).
+pub fn dispersion_seed(scene: &Scene) -> u64 {
+    scene
+        .file
+        .separation
+        .as_ref()
+        .map_or(0, |s| s.dispersion.seed)
+}
+
 /// The fewest runs whose extreme sample bounds `probability` at `confidence` (Wilks).
 fn auto_runs(scene: &Scene, probability: f64, confidence: f64) -> Result<usize, Error> {
     let n = order_stats::runs_needed(probability, confidence).unwrap_or(usize::MAX);
