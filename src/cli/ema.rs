@@ -5,7 +5,7 @@
 //! writes the stabilization diagram and the measured-against-rebuilt FRFs as SVG;
 //! `--export-frf FILE` writes the FRFs as CSV (what a peer tool is run on).
 
-use super::psd::{DialectArgs, parse_units, welch_options};
+use super::log_args::{LogArgs, WelchArgs};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{self, ema::EmaRequest};
@@ -14,7 +14,6 @@ use satqual::report::svg_plot::{self, Plot, Series};
 use satqual::report::write_atomic;
 use satqual::signal::PeakOptions;
 use satqual::signal::ema::{Criteria, EmaModel, EmaOptions, FrfForm, FrfSet, Method, Stability};
-use satqual::signal::ingest::IngestOptions;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -51,20 +50,6 @@ pub struct Args {
     pub peaks: usize,
     #[arg(long, default_value_t = 6.0)]
     pub min_prominence_db: f64,
-    #[arg(long)]
-    pub fs: Option<f64>,
-    #[arg(long, default_value_t = 8192)]
-    pub nperseg: usize,
-    #[arg(long, default_value_t = 0.5)]
-    pub overlap: f64,
-    #[arg(long, default_value = "hann")]
-    pub window: String,
-    #[arg(long, default_value = "constant")]
-    pub detrend: String,
-    #[arg(long)]
-    pub units: Option<String>,
-    #[arg(long)]
-    pub resample: bool,
     /// Write the FRFs (every line, re and im per output) to this CSV.
     #[arg(long)]
     pub export_frf: Option<PathBuf>,
@@ -75,10 +60,12 @@ pub struct Args {
     /// comment kept, each point annotated with its source).
     #[arg(long)]
     pub write_damping: Option<PathBuf>,
-    #[command(flatten)]
-    pub dialect: DialectArgs,
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub reading: LogArgs,
+    #[command(flatten)]
+    pub welch: WelchArgs,
 }
 
 fn options(args: &Args) -> Result<EmaOptions, Error> {
@@ -120,14 +107,8 @@ fn options(args: &Args) -> Result<EmaOptions, Error> {
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
-    let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
-    let mut ingest = IngestOptions {
-        fs: args.fs,
-        resample: args.resample,
-        ..Default::default()
-    };
-    parse_units(args.units.as_deref(), &mut ingest)?;
-    args.dialect.apply(&mut ingest)?;
+    let wopts = args.welch.options()?;
+    let ingest = args.reading.ingest(None)?;
     let opts = options(&args)?;
     let run = workflows::ema::run(&EmaRequest {
         logs: &args.logs,

@@ -2,13 +2,12 @@
 //! of every log given (e.g. one file per hammer hit), resonances with half-power Q; `--out DIR`
 //! writes frf.csv and an SVG of |H1| and coherence.
 
-use super::psd::{DialectArgs, parse_units, welch_options};
+use super::log_args::{LogArgs, WelchArgs};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{self, frf::FrfRequest};
 use satqual::report::plot::{Scale, Series, lines_svg};
 use satqual::report::write_atomic;
-use satqual::signal::ingest::IngestOptions;
 use satqual::signal::{Frf, PeakOptions, Resonance};
 use serde_json::json;
 use std::path::PathBuf;
@@ -24,20 +23,6 @@ pub struct Args {
     /// Output (response) channel.
     #[arg(long)]
     pub output: String,
-    #[arg(long)]
-    pub fs: Option<f64>,
-    #[arg(long, default_value_t = 8192)]
-    pub nperseg: usize,
-    #[arg(long, default_value_t = 0.5)]
-    pub overlap: f64,
-    #[arg(long, default_value = "hann")]
-    pub window: String,
-    #[arg(long, default_value = "constant")]
-    pub detrend: String,
-    #[arg(long)]
-    pub units: Option<String>,
-    #[arg(long)]
-    pub resample: bool,
     /// Resonances reported (the strongest, in frequency order).
     #[arg(long, default_value_t = 10)]
     pub peaks: usize,
@@ -51,10 +36,12 @@ pub struct Args {
     pub fmax: Option<f64>,
     #[arg(long)]
     pub out: Option<PathBuf>,
-    #[command(flatten)]
-    pub dialect: DialectArgs,
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub reading: LogArgs,
+    #[command(flatten)]
+    pub welch: WelchArgs,
 }
 
 pub fn peak_json(r: &Resonance) -> serde_json::Value {
@@ -63,7 +50,7 @@ pub fn peak_json(r: &Resonance) -> serde_json::Value {
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
-    let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
+    let wopts = args.welch.options()?;
     let peaks = PeakOptions {
         min_prominence_db: args.min_prominence_db,
         max_peaks: args.peaks,
@@ -71,13 +58,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         f_max_hz: args.fmax.unwrap_or(f64::INFINITY),
         db_per_decade: 20.0,
     };
-    let mut ingest = IngestOptions {
-        fs: args.fs,
-        resample: args.resample,
-        ..Default::default()
-    };
-    parse_units(args.units.as_deref(), &mut ingest)?;
-    args.dialect.apply(&mut ingest)?;
+    let ingest = args.reading.ingest(None)?;
     let run = workflows::frf::run(&FrfRequest {
         logs: &args.logs,
         input: &args.input,

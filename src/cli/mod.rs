@@ -11,6 +11,7 @@ mod campaign;
 mod ema;
 mod expand;
 mod frf;
+mod log_args;
 mod merge;
 mod modal;
 mod progress;

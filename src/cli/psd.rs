@@ -2,6 +2,7 @@
 //! optional tolerance bands against a reference profile; `--out DIR` writes CSV curves and a
 //! log-log SVG plot with the Grms in the legend.
 
+use super::log_args::{LogArgs, WelchArgs, print_ingest_notes};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{
@@ -10,8 +11,8 @@ use satqual::pipeline::workflows::{
 };
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
-use satqual::signal::ingest::{IngestOptions, LogInfo, TimeUnit, Unit};
-use satqual::signal::{Detrend, PsdSource, ToleranceSpec, WelchOptions, Window, read_profile};
+
+use satqual::signal::{PsdSource, ToleranceSpec, WelchOptions, read_profile};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -22,29 +23,6 @@ pub struct Args {
     /// Channels to process, comma-separated (default: every non-time column).
     #[arg(long, value_delimiter = ',')]
     pub channels: Option<Vec<String>>,
-    /// Sampling rate, Hz (needed without a time column).
-    #[arg(long)]
-    pub fs: Option<f64>,
-    /// Welch segment length, samples.
-    #[arg(long, default_value_t = 8192)]
-    pub nperseg: usize,
-    /// Segment overlap as a fraction in [0, 1).
-    #[arg(long, default_value_t = 0.5)]
-    pub overlap: f64,
-    /// hann, hamming, flattop or boxcar.
-    #[arg(long, default_value = "hann")]
-    pub window: String,
-    /// none, constant or linear.
-    #[arg(long, default_value = "constant")]
-    pub detrend: String,
-    /// `g`, `m/s2` for every channel whose name states no unit, or a list `ch=unit,...`.
-    #[arg(long)]
-    pub units: Option<String>,
-    /// Interpolate a non-uniform time column onto a uniform grid (reported) instead of failing.
-    #[arg(long)]
-    pub resample: bool,
-    #[command(flatten)]
-    pub dialect: DialectArgs,
     /// Reference profile (TOML `profile_g2_hz = [[f, g2], ...]` or CSV f_hz,g2_hz): tolerance bands.
     #[arg(long)]
     pub profile: Option<PathBuf>,
@@ -66,69 +44,10 @@ pub struct Args {
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
-}
-
-/// How to read a log whose dialect the reader cannot decide alone.
-#[derive(clap::Args, Debug, Clone)]
-pub struct DialectArgs {
-    /// Column names of a headerless log, comma-separated.
-    #[arg(long, value_delimiter = ',')]
-    pub columns: Option<Vec<String>>,
-    /// Unit of the time column when its name states none: s, ms, us or ns.
-    #[arg(long)]
-    pub time_unit: Option<String>,
-    /// Use --fs even when the time column disagrees with it (the time column is ignored).
-    #[arg(long)]
-    pub fs_override: bool,
-}
-
-impl DialectArgs {
-    pub fn apply(&self, opts: &mut IngestOptions) -> Result<(), Error> {
-        opts.columns = self.columns.clone();
-        opts.time_unit = self.time_unit.as_deref().map(TimeUnit::parse).transpose()?;
-        opts.fs_override = self.fs_override;
-        Ok(())
-    }
-}
-
-/// Prints the reader's dialect decisions once, on stderr (stdout may hold the JSON).
-pub fn print_ingest_notes(info: Option<&LogInfo>) {
-    for n in info.map(|i| i.ingest.notes.as_slice()).unwrap_or_default() {
-        eprintln!("note: {n}");
-    }
-}
-
-/// Parses `--units`: one unit for all, or `name=unit` pairs.
-pub fn parse_units(spec: Option<&str>, opts: &mut IngestOptions) -> Result<(), Error> {
-    let Some(spec) = spec else { return Ok(()) };
-    if !spec.contains('=') {
-        opts.default_unit = Some(Unit::parse(spec)?);
-        return Ok(());
-    }
-    for item in spec.split(',').filter(|s| !s.trim().is_empty()) {
-        let (name, unit) = item
-            .split_once('=')
-            .ok_or_else(|| Error::Other(format!("--units: `{item}` is not `channel=unit`")))?;
-        opts.channel_units
-            .push((name.trim().to_string(), Unit::parse(unit)?));
-    }
-    Ok(())
-}
-
-pub fn welch_options(
-    nperseg: usize,
-    overlap: f64,
-    window: &str,
-    detrend: &str,
-) -> Result<WelchOptions, Error> {
-    let o = WelchOptions {
-        nperseg,
-        overlap,
-        window: Window::parse(window)?,
-        detrend: Detrend::parse(detrend)?,
-    };
-    o.validate()?;
-    Ok(o)
+    #[command(flatten)]
+    pub reading: LogArgs,
+    #[command(flatten)]
+    pub welch: WelchArgs,
 }
 
 fn csv_number(v: f64) -> String {
@@ -137,15 +56,8 @@ fn csv_number(v: f64) -> String {
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
-    let mut ingest = IngestOptions {
-        channels: args.channels.clone(),
-        fs: args.fs,
-        resample: args.resample,
-        ..Default::default()
-    };
-    parse_units(args.units.as_deref(), &mut ingest)?;
-    args.dialect.apply(&mut ingest)?;
-    let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
+    let ingest = args.reading.ingest(args.channels.clone())?;
+    let wopts = args.welch.options()?;
     let tolerance = match &args.profile {
         Some(path) => Some(ToleranceCheck {
             control: args.control.clone(),

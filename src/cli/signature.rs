@@ -2,11 +2,10 @@
 //! signature, matched mode by mode; fails (exit 1) when a mode shifts more than
 //! `--max-shift-pct` or changes amplitude more than `--max-amp-change-pct`, naming the mode.
 
-use super::psd::{DialectArgs, parse_units, welch_options};
+use super::log_args::{LogArgs, WelchArgs};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{self, signature::SignatureRequest};
-use satqual::signal::ingest::IngestOptions;
 use satqual::signal::{PeakOptions, SignatureCriteria};
 use serde_json::json;
 use std::path::PathBuf;
@@ -21,8 +20,6 @@ pub struct Args {
     pub input: String,
     #[arg(long)]
     pub output: String,
-    #[arg(long)]
-    pub fs: Option<f64>,
     #[arg(long, default_value_t = 5.0)]
     pub max_shift_pct: f64,
     #[arg(long, default_value_t = 20.0)]
@@ -30,16 +27,6 @@ pub struct Args {
     /// Matching window between a mode before and a peak after, percent.
     #[arg(long, default_value_t = 25.0)]
     pub match_window_pct: f64,
-    #[arg(long, default_value_t = 8192)]
-    pub nperseg: usize,
-    #[arg(long, default_value_t = 0.5)]
-    pub overlap: f64,
-    #[arg(long, default_value = "hann")]
-    pub window: String,
-    #[arg(long, default_value = "constant")]
-    pub detrend: String,
-    #[arg(long)]
-    pub units: Option<String>,
     /// Modes compared (the strongest resonances of the before-signature).
     #[arg(long, default_value_t = 10)]
     pub modes: usize,
@@ -49,15 +36,17 @@ pub struct Args {
     pub fmin: Option<f64>,
     #[arg(long)]
     pub fmax: Option<f64>,
-    #[command(flatten)]
-    pub dialect: DialectArgs,
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub reading: LogArgs,
+    #[command(flatten)]
+    pub welch: WelchArgs,
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
-    let wopts = welch_options(args.nperseg, args.overlap, &args.window, &args.detrend)?;
+    let wopts = args.welch.options()?;
     let peaks = PeakOptions {
         min_prominence_db: args.min_prominence_db,
         max_peaks: args.modes,
@@ -65,12 +54,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         f_max_hz: args.fmax.unwrap_or(f64::INFINITY),
         db_per_decade: 20.0,
     };
-    let mut ingest = IngestOptions {
-        fs: args.fs,
-        ..Default::default()
-    };
-    parse_units(args.units.as_deref(), &mut ingest)?;
-    args.dialect.apply(&mut ingest)?;
+    let ingest = args.reading.ingest(None)?;
     let run = workflows::signature::run(&SignatureRequest {
         before: &args.before,
         after: &args.after,

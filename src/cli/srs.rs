@@ -3,12 +3,11 @@
 //! against a shock specification; `--out DIR` writes the spectra as CSV and a log-log SVG plot.
 //! The analysis is `satqual::signal::srs_of_file`; this file parses, prints and writes.
 
-use super::psd::{DialectArgs, parse_units};
+use super::log_args::LogArgs;
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
-use satqual::signal::ingest::IngestOptions;
 use satqual::signal::srs::{SpecCheck, SpecTolerance, check_against_spec};
 use satqual::signal::{LogSrs, Offset, SrsOptions, read_profile, srs_of_file};
 use serde_json::json;
@@ -21,14 +20,6 @@ pub struct Args {
     /// Channels to process, comma-separated (default: every non-time column).
     #[arg(long, value_delimiter = ',')]
     pub channels: Option<Vec<String>>,
-    /// Sampling rate, Hz (needed without a time column).
-    #[arg(long)]
-    pub fs: Option<f64>,
-    /// `g`, `m/s2` for every channel whose name states no unit, or a list `ch=unit,...`.
-    #[arg(long)]
-    pub units: Option<String>,
-    #[command(flatten)]
-    pub dialect: DialectArgs,
     /// Quality factor of the oscillators (damping ratio 1/(2Q)).
     #[arg(long, default_value_t = 10.0)]
     pub q: f64,
@@ -60,17 +51,13 @@ pub struct Args {
     /// Print the machine-readable result to stdout.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub reading: LogArgs,
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
-    let mut ingest = IngestOptions {
-        channels: args.channels.clone(),
-        fs: args.fs,
-        ..Default::default()
-    };
-    parse_units(args.units.as_deref(), &mut ingest)?;
-    args.dialect.apply(&mut ingest)?;
+    let ingest = args.reading.ingest(args.channels.clone())?;
     let opts = SrsOptions {
         q: args.q,
         fmin_hz: args.fmin,

@@ -2,8 +2,8 @@
 //! phase per unit control, against the instantaneous drive frequency, and its dominant
 //! resonance (fn, half-power Q). `--out DIR` writes sweep.csv and a log-log plot of |H|.
 
+use super::log_args::LogArgs;
 use super::progress::Progress;
-use super::psd::{DialectArgs, parse_units};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{
@@ -13,7 +13,6 @@ use satqual::pipeline::workflows::{
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
 use satqual::signal::SweepOptions;
-use satqual::signal::ingest::IngestOptions;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -27,8 +26,6 @@ pub struct Args {
     /// Response channels, comma-separated (default: every other channel).
     #[arg(long, value_delimiter = ',')]
     pub responses: Option<Vec<String>>,
-    #[arg(long)]
-    pub fs: Option<f64>,
     /// Demodulation block, s.
     #[arg(long, default_value_t = 0.25)]
     pub block_s: f64,
@@ -36,29 +33,19 @@ pub struct Args {
     #[arg(long, default_value_t = 0.02)]
     pub hop_s: f64,
     #[arg(long)]
-    pub units: Option<String>,
-    #[arg(long)]
-    pub resample: bool,
-    #[arg(long)]
     pub out: Option<PathBuf>,
-    #[command(flatten)]
-    pub dialect: DialectArgs,
     #[arg(long)]
     pub json: bool,
     /// No progress on stderr.
     #[arg(long)]
     pub quiet: bool,
+    #[command(flatten)]
+    pub reading: LogArgs,
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
     let p = Printer::new(args.json);
-    let mut ingest = IngestOptions {
-        fs: args.fs,
-        resample: args.resample,
-        ..Default::default()
-    };
-    parse_units(args.units.as_deref(), &mut ingest)?;
-    args.dialect.apply(&mut ingest)?;
+    let ingest = args.reading.ingest(None)?;
     let progress = Progress::start(args.quiet, args.json, "sweep tracking");
     let run = workflows::sweep::run(&SweepRequest {
         log: &args.log,

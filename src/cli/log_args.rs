@@ -1,0 +1,116 @@
+//! The options every log-reading command shares: how to read a log (`LogArgs`, with the
+//! dialect flags) and how to average it (`WelchArgs`). Flattened into each command's
+//! arguments so the flags, their help and their parsing are written once.
+
+use satqual::Error;
+use satqual::signal::ingest::{IngestOptions, LogInfo, TimeUnit, Unit};
+use satqual::signal::{Detrend, WelchOptions, Window};
+
+/// How to read a log: sampling rate, units, resampling and the dialect flags.
+#[derive(clap::Args, Debug, Clone)]
+pub struct LogArgs {
+    /// Sampling rate, Hz (needed without a time column).
+    #[arg(long)]
+    pub fs: Option<f64>,
+    /// `g`, `m/s2` for every channel whose name states no unit, or a list `ch=unit,...`.
+    #[arg(long)]
+    pub units: Option<String>,
+    /// Interpolate a non-uniform time column onto a uniform grid (reported) instead of failing.
+    #[arg(long)]
+    pub resample: bool,
+    #[command(flatten)]
+    pub dialect: DialectArgs,
+}
+
+impl LogArgs {
+    /// The reader's options for these flags, reading only `channels` when given.
+    pub fn ingest(&self, channels: Option<Vec<String>>) -> Result<IngestOptions, Error> {
+        let mut opts = IngestOptions {
+            channels,
+            fs: self.fs,
+            resample: self.resample,
+            ..Default::default()
+        };
+        parse_units(self.units.as_deref(), &mut opts)?;
+        self.dialect.apply(&mut opts)?;
+        Ok(opts)
+    }
+}
+
+/// How to read a log whose dialect the reader cannot decide alone.
+#[derive(clap::Args, Debug, Clone)]
+pub struct DialectArgs {
+    /// Column names of a headerless log, comma-separated.
+    #[arg(long, value_delimiter = ',')]
+    pub columns: Option<Vec<String>>,
+    /// Unit of the time column when its name states none: s, ms, us or ns.
+    #[arg(long)]
+    pub time_unit: Option<String>,
+    /// Use --fs even when the time column disagrees with it (the time column is ignored).
+    #[arg(long)]
+    pub fs_override: bool,
+}
+
+impl DialectArgs {
+    pub fn apply(&self, opts: &mut IngestOptions) -> Result<(), Error> {
+        opts.columns = self.columns.clone();
+        opts.time_unit = self.time_unit.as_deref().map(TimeUnit::parse).transpose()?;
+        opts.fs_override = self.fs_override;
+        Ok(())
+    }
+}
+
+/// Welch averaging: segment length, overlap, window and detrending.
+#[derive(clap::Args, Debug, Clone)]
+pub struct WelchArgs {
+    /// Welch segment length, samples.
+    #[arg(long, default_value_t = 8192)]
+    pub nperseg: usize,
+    /// Segment overlap as a fraction in [0, 1).
+    #[arg(long, default_value_t = 0.5)]
+    pub overlap: f64,
+    /// hann, hamming, flattop or boxcar.
+    #[arg(long, default_value = "hann")]
+    pub window: String,
+    /// none, constant or linear.
+    #[arg(long, default_value = "constant")]
+    pub detrend: String,
+}
+
+impl WelchArgs {
+    /// The checked Welch options.
+    pub fn options(&self) -> Result<WelchOptions, Error> {
+        let o = WelchOptions {
+            nperseg: self.nperseg,
+            overlap: self.overlap,
+            window: Window::parse(&self.window)?,
+            detrend: Detrend::parse(&self.detrend)?,
+        };
+        o.validate()?;
+        Ok(o)
+    }
+}
+
+/// Prints the reader's dialect decisions once, on stderr (stdout may hold the JSON).
+pub fn print_ingest_notes(info: Option<&LogInfo>) {
+    for n in info.map(|i| i.ingest.notes.as_slice()).unwrap_or_default() {
+        eprintln!("note: {n}");
+    }
+}
+
+/// Parses `--units`: one unit for all, or `name=unit` pairs.
+fn parse_units(spec: Option<&str>, opts: &mut IngestOptions) -> Result<(), Error> {
+    let Some(spec) = spec else { return Ok(()) };
+    if !spec.contains('=') {
+        opts.default_unit = Some(Unit::parse(spec)?);
+        return Ok(());
+    }
+    for item in spec.split(',').filter(|s| !s.trim().is_empty()) {
+        let (name, unit) = item
+            .split_once('=')
+            .ok_or_else(|| Error::Other(format!("--units: `{item}` is not `channel=unit`")))?;
+        opts.channel_units
+            .push((name.trim().to_string(), Unit::parse(unit)?));
+    }
+    Ok(())
+}
