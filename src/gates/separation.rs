@@ -7,7 +7,7 @@
 //! Margins of maxima follow the margin-of-safety form with a factor of safety of 1,
 //! MS = limit/value − 1 (tip-off rate, time on the bars); minima value/limit − 1.
 
-use super::verdict::{Verdict, above, at_least};
+use super::verdict::{Verdict, above, at_least, design_margin};
 use crate::separation::montecarlo::{MonteCarloResult, TailBound};
 use crate::separation::{SatelliteResult, SeparationResult, Stall, order_stats};
 use crate::spec::GatesSpec;
@@ -18,9 +18,6 @@ const NO_RECONTACT: &str =
 const WEDGING: &str = "a satellite must not stall on the bars ([separation] stall_speed_m_s, \
                        ASSUMPTION)";
 const TIME_ON_BARS: &str = "ASSUMPTION: every satellite must leave the bars within the simulated time ([separation] max_time_s)";
-/// The largest margin a maximum reports: a value under 1/1000 of its limit (a tip-off rate of
-/// exactly 0 in a symmetric release) would otherwise give an infinite margin.
-pub const MAX_MARGIN: f64 = 999.0;
 
 /// What the run-level gates need besides the results.
 #[derive(Debug, Clone, Copy)]
@@ -54,28 +51,13 @@ fn unit_from_name(v: Verdict) -> Verdict {
     v.with_unit(&unit)
 }
 
-/// `value` must not exceed `limit`; MS = limit/value − 1 (FS = 1), at most [`MAX_MARGIN`].
-pub fn at_most_ms(
-    name: impl Into<String>,
-    value: f64,
-    limit: f64,
-    source: impl Into<String>,
-) -> Verdict {
-    let margin = if value > limit / (1.0 + MAX_MARGIN) {
-        limit / value - 1.0
-    } else {
-        MAX_MARGIN
-    };
-    Verdict::gate(name, value, limit, margin, value <= limit, source)
-}
-
 /// Exit speed (value/v_min − 1), tip-off rate (ω_max/ω − 1), time on the bars (available
 /// time / exit time − 1; −1 when it never leaves) and wedging.
 pub fn satellite(s: &SatelliteResult, run: &RunLimits, limits: &GatesSpec) -> [Verdict; 4] {
     let i = s.index;
     let available = run.max_time_s - s.release_time_s.unwrap_or(0.0);
     let on_bars = match s.exit_time_s {
-        Some(t) => at_most_ms(
+        Some(t) => design_margin(
             format!("satellite {i} time on the guide bars, against the simulated time [s]"),
             t,
             available,
@@ -97,7 +79,7 @@ pub fn satellite(s: &SatelliteResult, run: &RunLimits, limits: &GatesSpec) -> [V
             limits.min_separation_speed_m_s,
             LIMITS_SOURCE,
         ),
-        at_most_ms(
+        design_margin(
             format!("satellite {i} tip-off rate at bar exit [deg/s]"),
             s.final_rate_deg_s,
             limits.max_tipoff_rate_deg_s,
@@ -230,7 +212,7 @@ pub fn monte_carlo(mc: &MonteCarloResult, limits: &GatesSpec) -> Vec<Verdict> {
     }
     if let Some(t) = &b.highest_tip_off_rate_deg_s {
         let name = bound_name("highest tip-off rate", t, "deg/s");
-        let v = at_most_ms(name, t.value, limits.max_tipoff_rate_deg_s, LIMITS_SOURCE);
+        let v = design_margin(name, t.value, limits.max_tipoff_rate_deg_s, LIMITS_SOURCE);
         out.push(demonstrated(v, t));
     }
     if let Some(t) = &b.min_clearance_m {
