@@ -6,36 +6,8 @@ use crate::common::{rel, run_text, temp_dir};
 use realfft::num_complex::Complex64;
 use satqual::catalogue::analytic::three_dof;
 use satqual::signal::PeakOptions;
-use satqual::signal::ema::{
-    Criteria, EmaOptions, FrfForm, FrfSet, Method, identify, indicators::mac,
-};
+use satqual::signal::ema::{Criteria, EmaOptions, FrfForm, Method, identify, indicators::mac};
 use serde_json::Value;
-
-fn three_dof_set(noise: f64) -> FrfSet {
-    use rand::{RngExt, SeedableRng};
-    let sys = three_dof();
-    let freqs: Vec<f64> = (0..=800).map(|k| k as f64 * 0.25).collect();
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-    let h = sys
-        .accelerance(&freqs)
-        .into_iter()
-        .map(|ho| {
-            ho.into_iter()
-                .map(|(re, im)| {
-                    let z = Complex64::new(re, im);
-                    // Complex noise proportional to |H| at each line (a relative error).
-                    let n = Complex64::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
-                    z + z.norm() * noise * 2.0 * n
-                })
-                .collect()
-        })
-        .collect();
-    FrfSet {
-        freqs,
-        channels: vec!["m1".into(), "m2".into(), "m3".into()],
-        h,
-    }
-}
 
 fn options(method: Method) -> EmaOptions {
     EmaOptions {
@@ -78,7 +50,7 @@ fn ema_lscf_recovers_three_dof_without_noise() {
     // Reference: the analytic 3-DOF (catalogue::analytic::three_dof), whose accelerance is an
     // exact sum of three modal terms. Measured: frequency 4e-10, damping 5e-8, MAC 1 - 2e-16;
     // the tolerances leave the rounding of order-40 normal equations room.
-    let m = identify(&three_dof_set(0.0), &options(Method::Lscf)).unwrap();
+    let m = identify(&three_dof().frf_set(0.0), &options(Method::Lscf)).unwrap();
     let (df, dz, mac_min) = errors(&m);
     assert!(df < 1e-7, "frequency error {df:e}");
     assert!(dz < 1e-5, "damping error {dz:e}");
@@ -101,7 +73,7 @@ fn ema_lscf_recovers_three_dof_with_two_percent_noise() {
     // Same system, each line perturbed by uniform complex noise of up to ±2 % of |H| (seeded).
     // Measured: frequency 1.0e-4, damping 1.4 %, MAC 0.999993. Tolerances: 0.1 % in frequency and
     // 5 % in damping, the stabilization criteria's own thresholds.
-    let m = identify(&three_dof_set(0.02), &options(Method::Lscf)).unwrap();
+    let m = identify(&three_dof().frf_set(0.02), &options(Method::Lscf)).unwrap();
     let (df, dz, mac_min) = errors(&m);
     eprintln!("noisy 3-DOF: df {df:e} dz {dz:e} mac {mac_min}");
     assert!(df < 1e-3, "frequency error {df:e}");
@@ -115,7 +87,7 @@ fn ema_peak_method_reads_three_dof_with_half_power_damping() {
     // peak picking is coarse. Tolerances: frequency within one line (0.25 Hz), damping within
     // 25 % (the bandwidth of the 1 % mode is 0.46 Hz, read by linear interpolation).
     let sys = three_dof();
-    let m = identify(&three_dof_set(0.0), &options(Method::Peak)).unwrap();
+    let m = identify(&three_dof().frf_set(0.0), &options(Method::Peak)).unwrap();
     assert_eq!(m.modes.len(), 3, "{:#?}", m.modes);
     for (r, mode) in m.modes.iter().enumerate() {
         assert!(

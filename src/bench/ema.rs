@@ -6,9 +6,7 @@
 use crate::Error;
 use crate::catalogue::analytic::three_dof;
 use crate::signal::PeakOptions;
-use crate::signal::ema::{Criteria, EmaOptions, FrfForm, FrfSet, Method, identify};
-use rand::{RngExt, SeedableRng};
-use realfft::num_complex::Complex64;
+use crate::signal::ema::{Criteria, EmaOptions, FrfForm, Method, identify};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -24,36 +22,12 @@ struct Row {
     damping_error_pct: Option<f64>,
 }
 
-fn frfs(noise: f64) -> FrfSet {
-    let sys = three_dof();
-    let freqs: Vec<f64> = (0..=800).map(|k| k as f64 * 0.25).collect();
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-    let h = sys
-        .accelerance(&freqs)
-        .into_iter()
-        .map(|ho| {
-            ho.into_iter()
-                .map(|(re, im)| {
-                    let z = Complex64::new(re, im);
-                    let n = Complex64::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
-                    z + z.norm() * noise * 2.0 * n
-                })
-                .collect()
-        })
-        .collect();
-    FrfSet {
-        freqs,
-        channels: vec!["m1".into(), "m2".into(), "m3".into()],
-        h,
-    }
-}
-
 /// The table as (JSON, Markdown).
 pub fn run() -> Result<(String, String), Error> {
     let sys = three_dof();
     let mut rows = Vec::new();
     for noise in [0.0, 0.005, 0.02] {
-        let set = frfs(noise);
+        let set = three_dof().frf_set(noise);
         for order_max in [10usize, 20, 40, 80] {
             let opts = EmaOptions {
                 f_lo: 5.0,

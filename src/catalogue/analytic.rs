@@ -77,6 +77,34 @@ pub fn three_dof() -> ThreeDof {
 }
 
 impl ThreeDof {
+    /// The accelerances on 0–200 Hz at 0.25 Hz lines as an EMA input, each line with a complex
+    /// error of up to `noise`·|H| per part (seed 7), shared by the EMA tests and bench.
+    pub fn frf_set(&self, noise: f64) -> crate::signal::ema::FrfSet {
+        use rand::{RngExt, SeedableRng};
+        use realfft::num_complex::Complex64;
+        let freqs: Vec<f64> = (0..=800).map(|k| k as f64 * 0.25).collect();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let h = self
+            .accelerance(&freqs)
+            .into_iter()
+            .map(|ho| {
+                ho.into_iter()
+                    .map(|(re, im)| {
+                        let z = Complex64::new(re, im);
+                        let n =
+                            Complex64::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+                        z + z.norm() * noise * 2.0 * n
+                    })
+                    .collect()
+            })
+            .collect();
+        crate::signal::ema::FrfSet {
+            freqs,
+            channels: vec!["m1".into(), "m2".into(), "m3".into()],
+            h,
+        }
+    }
+
     /// Accelerance (m/s² per N) of masses 1..3 to a force at mass 1: `[o][k]` as (re, im).
     pub fn accelerance(&self, freqs: &[f64]) -> Vec<Vec<(f64, f64)>> {
         (0..3)
