@@ -7,6 +7,7 @@
 
 use crate::common::{load, parse, rel};
 use satqual::modal::ModalResult;
+use satqual::spec::SolverChoice;
 use std::f64::consts::PI;
 
 const CANTILEVER: &str = "test-specs/verification/cantilever.toml";
@@ -25,12 +26,19 @@ fn scene_text() -> String {
 }
 
 fn modes_of(text: &str, modes: usize) -> ModalResult {
+    modes_with(text, modes, SolverChoice::Auto)
+}
+
+fn modes_with(text: &str, modes: usize, solver: SolverChoice) -> ModalResult {
     let scene = parse(text);
-    satqual::pipeline::modal(&scene, None, Some(modes))
-        .unwrap_or_else(|e| panic!("{e}"))
+    satqual::pipeline::modal_with_solver(&scene, None, Some(modes), Some(solver))
+        .unwrap_or_else(|e| panic!("{solver:?}: {e}"))
         .1
         .result
 }
+
+/// Both solvers, each held to the same checks.
+const SOLVERS: [SolverChoice; 2] = [SolverChoice::Dense, SolverChoice::Sparse];
 
 fn clamped() -> ModalResult {
     let scene = load(&crate::common::repo_path(CANTILEVER).display().to_string());
@@ -56,13 +64,21 @@ fn stiff_root_springs_give_the_clamped_frequencies() {
     let reference = clamped();
     for r in [1e8, 1e10, 1e12, 1e15] {
         let (t, b) = (r * EA_OVER_L, r * EI);
-        let res = modes_of(&root_spring([t, t, t, b, b, b]), 10);
-        for i in 0..8 {
-            let (f, f0) = (res.modes[i].frequency_hz, reference.modes[i].frequency_hz);
-            assert!(rel(f, f0) < 1e-6, "r = {r:e}, mode {}: {f} vs {f0}", i + 1);
+        for solver in SOLVERS {
+            let res = modes_with(&root_spring([t, t, t, b, b, b]), 10, solver);
+            for i in 0..8 {
+                let (f, f0) = (res.modes[i].frequency_hz, reference.modes[i].frequency_hz);
+                let s = &res.solver;
+                assert!(
+                    rel(f, f0) < 1e-6,
+                    "{s}, r = {r:e}, mode {}: {f} vs {f0}",
+                    i + 1
+                );
+            }
+            assert_eq!(res.rigid_body_modes, 0);
         }
-        assert_eq!(res.rigid_body_modes, 0);
-        let dense = res.dense.as_ref().expect("dense solver");
+        let dense = modes_with(&root_spring([t, t, t, b, b, b]), 10, SolverChoice::Dense);
+        let dense = dense.dense.as_ref().expect("dense solver");
         assert!(dense.max_backward_error < 1e-8, "r = {r:e}: {dense:?}");
     }
     // The clamped model itself against βL = 1.875104 (clamped-free), within the 20-element
@@ -72,26 +88,48 @@ fn stiff_root_springs_give_the_clamped_frequencies() {
     assert!(rel(reference.modes[1].frequency_hz, f1) < 1e-4);
 }
 
+/// The cantilever cut at mid-span into two 10-element halves whose coincident end nodes are
+/// tied by the spring `tie` of k = 1e12 in all six DOFs.
+fn tied_beam() -> String {
+    let tie = "[[node]]\nid = 3\nposition_m = [0.5, 0.0, 0.0]\n\n[[node]]\nid = 4\nposition_m = [0.5, 0.0, 0.0]\n\n[[spring]]\nname = \"tie\"\nnodes = [3, 4]\nstiffness = [1e12, 1e12, 1e12, 1e12, 1e12, 1e12]\n\n[[beam]]\nnodes = [1, 3]";
+    let second = "theory = \"euler-bernoulli\"\n\n[[beam]]\nnodes = [4, 2]\nsection = \"bar\"\nmaterial = \"steel\"\nelements = 10\norientation = [0.0, 0.0, 1.0]\ntheory = \"euler-bernoulli\"\n";
+    scene_text()
+        .replacen("[[beam]]\nnodes = [1, 2]", tie, 1)
+        .replacen("elements = 20", "elements = 10", 1)
+        .replacen("theory = \"euler-bernoulli\"\n", second, 1)
+}
+
 /// The beam cut at mid-span into two 10-element halves whose coincident end nodes are tied by
 /// k = 1e12 in all six DOFs: the same modes as the continuous beam (the clamped scene, 1e-6
 /// relative). Before, +53% dense, −8% sparse. The tie is 1.8e7 times the rotational stiffness
 /// of an element (4EI/Le = 2.2e5 N·m): MAXRATIO above 1e7, so a warning names it.
 #[test]
 fn a_stiff_tie_at_mid_span_keeps_the_continuous_beam_and_is_flagged() {
-    let tie = "[[node]]\nid = 3\nposition_m = [0.5, 0.0, 0.0]\n\n[[node]]\nid = 4\nposition_m = [0.5, 0.0, 0.0]\n\n[[spring]]\nname = \"tie\"\nnodes = [3, 4]\nstiffness = [1e12, 1e12, 1e12, 1e12, 1e12, 1e12]\n\n[[beam]]\nnodes = [1, 3]";
-    let second = "theory = \"euler-bernoulli\"\n\n[[beam]]\nnodes = [4, 2]\nsection = \"bar\"\nmaterial = \"steel\"\nelements = 10\norientation = [0.0, 0.0, 1.0]\ntheory = \"euler-bernoulli\"\n";
-    let text = scene_text()
-        .replacen("[[beam]]\nnodes = [1, 2]", tie, 1)
-        .replacen("elements = 20", "elements = 10", 1)
-        .replacen("theory = \"euler-bernoulli\"\n", second, 1);
-    let res = modes_of(&text, 10);
+    let text = tied_beam();
     let reference = clamped();
-    for i in 0..8 {
-        let (f, f0) = (res.modes[i].frequency_hz, reference.modes[i].frequency_hz);
-        assert!(rel(f, f0) < 1e-6, "mode {}: {f} vs {f0}", i + 1);
+    for solver in SOLVERS {
+        let res = modes_with(&text, 10, solver);
+        for i in 0..8 {
+            let (f, f0) = (res.modes[i].frequency_hz, reference.modes[i].frequency_hz);
+            let s = &res.solver;
+            assert!(rel(f, f0) < 1e-6, "{s}, mode {}: {f} vs {f0}", i + 1);
+        }
+        let max_ratio = match (&res.dense, &res.sparse) {
+            (Some(d), _) => d.max_ratio,
+            (_, Some(s)) => s.max_ratio,
+            _ => panic!("no solver statistics"),
+        };
+        assert!(max_ratio > 1e7, "{}: MAXRATIO {max_ratio:e}", res.solver);
+        assert!(
+            res.warnings
+                .iter()
+                .any(|w| w.contains("MAXRATIO") && w.contains("tie") && w.contains("[[rigid]]")),
+            "{}: {:?}",
+            res.solver,
+            res.warnings
+        );
     }
-    let dense = res.dense.as_ref().unwrap();
-    assert!(dense.max_ratio > 1e7, "{dense:?}");
+    let res = modes_of(&text, 10);
     // The same tie at r = 1e15 (8.4e22 N/m, 2.8e18 N·m/rad) is beyond double precision: the
     // modes it gives are not the beam's, and that must not pass silently.
     let beyond = modes_of(
@@ -128,8 +166,13 @@ fn free_free() -> String {
 /// free-free bending pair at βL = 4.730041 (within the 20-element mesh error, 1e-4).
 #[test]
 fn a_free_free_beam_has_six_rigid_body_modes_at_zero() {
-    let res = modes_of(&free_free(), 8);
-    assert_eq!(res.rigid_body_modes, 6);
+    for solver in SOLVERS {
+        free_free_modes_are_checked(modes_with(&free_free(), 8, solver));
+    }
+}
+
+fn free_free_modes_are_checked(res: ModalResult) {
+    assert_eq!(res.rigid_body_modes, 6, "{}", res.solver);
     assert_eq!(res.rigid_body_directions, ["x", "y", "z", "rx", "ry", "rz"]);
     for m in &res.modes[..6] {
         assert!(m.rigid_body && m.frequency_hz == 0.0, "{m:?}");
@@ -149,15 +192,18 @@ fn a_free_free_beam_has_six_rigid_body_modes_at_zero() {
 #[test]
 fn a_pinned_root_is_a_mechanism_with_three_zero_modes() {
     let t = 1e8 * EA_OVER_L;
-    let res = modes_of(&root_spring([t, t, t, 0.0, 0.0, 0.0]), 5);
-    assert_eq!(res.rigid_body_modes, 3);
-    let f1 = beam_hz(3.926_602_3);
-    assert!(
-        rel(res.modes[3].frequency_hz, f1) < 1e-4,
-        "{}",
-        res.modes[3].frequency_hz
-    );
-    assert!(rel(res.modes[4].frequency_hz, f1) < 1e-4);
+    for solver in SOLVERS {
+        let res = modes_with(&root_spring([t, t, t, 0.0, 0.0, 0.0]), 5, solver);
+        assert_eq!(res.rigid_body_modes, 3, "{}", res.solver);
+        let f1 = beam_hz(3.926_602_3);
+        assert!(
+            rel(res.modes[3].frequency_hz, f1) < 1e-4,
+            "{}: {}",
+            res.solver,
+            res.modes[3].frequency_hz
+        );
+        assert!(rel(res.modes[4].frequency_hz, f1) < 1e-4);
+    }
 }
 
 /// The cantilever as a column under a tip load P along −x: the model's own buckling load P_cr
@@ -252,4 +298,35 @@ fn a_near_massless_body_does_not_disturb_the_structure() {
         let (f, f0) = (res.modes[i].frequency_hz, reference.modes[i].frequency_hz);
         assert!(rel(f, f0) < 1e-6, "mode {}: {f} vs {f0}", i + 1);
     }
+}
+
+/// A conditioning warning is not left on stderr of `modal`: `qualify` prints it and the
+/// report's first screen lists it (the tie of `tied_beam`, MAXRATIO above 1e7).
+#[test]
+fn a_conditioning_warning_reaches_the_report() {
+    let dir = crate::common::temp_dir("tie-report");
+    let scene = dir.join("tie.toml");
+    std::fs::write(&scene, tied_beam()).unwrap();
+    let out = dir.join("report");
+    let (code, _, stderr) = crate::common::run_text(
+        &[
+            "qualify",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ],
+        None,
+    );
+    assert!(code == 0 || code == 1, "exit {code}: {stderr}");
+    assert!(
+        stderr.contains("MAXRATIO") && stderr.contains("tie"),
+        "{stderr}"
+    );
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let first_section = md.split("\n## ").next().unwrap();
+    assert!(
+        first_section.contains("warning") && first_section.contains("MAXRATIO"),
+        "{first_section}"
+    );
 }

@@ -97,6 +97,14 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "{:>5} {:>12} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4}   (effective-mass fractions)",
         "sum", "", sum[0], sum[1], sum[2], sum[3], sum[4], sum[5]
     );
+    if r.rigid_body_modes > 0 {
+        let _ = writeln!(
+            t,
+            "rigid-body modes: {} at 0 Hz ({}); the model is not supported against them",
+            r.rigid_body_modes,
+            r.rigid_body_directions.join(", ")
+        );
+    }
     if let Some(ps) = &r.prestress {
         match ps.buckling_factor {
             Some(l) => {

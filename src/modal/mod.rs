@@ -435,7 +435,8 @@ fn buckling(
     }
 }
 
-/// The modes of the band asked for by the sparse solver, with its Sturm proof in the label.
+/// The modes of the band asked for by the sparse solver, with its Sturm proof in the label,
+/// checked and flagged as the dense path's are.
 fn sparse_modes(
     model: &FeModel,
     red: &Reduction,
@@ -446,7 +447,7 @@ fn sparse_modes(
 ) -> Result<ModalResult, crate::Error> {
     let kc = sparse::SymCsc::from_triplets(red.n_red, k);
     let mc = sparse::SymCsc::from_triplets(red.n_red, m);
-    let (pairs, stats) = sparse::eigen(&kc, &mc, opts.fmax_hz, opts.modes)
+    let (mut pairs, mut stats) = sparse::eigen(&kc, &mc, opts.fmax_hz, opts.modes)
         .map_err(|e| sparse_err(model, red, e, true))?;
     let two_pi = 2.0 * std::f64::consts::PI;
     let label = format!(
@@ -454,9 +455,23 @@ fn sparse_modes(
         stats.sturm_count,
         stats.sturm_sigma.max(0.0).sqrt() / two_pi
     );
+    // The sparse eigenvalues are Rayleigh quotients: no shift enters their rounding.
+    let (rigid, worst) = check_pairs(model, (k, m), &mut pairs, 0.0, past_buckling(&prestress))?;
     let mut result = modal_result(model, red, m_full, m, pairs, &label, prestress);
+    let (max_ratio, at) = flag_solution(model, red, &mut result, rigid, &stats.pivot_ratio, worst);
+    stats.max_ratio = max_ratio;
+    stats.max_ratio_at = checks::dof_name(model, red, at);
     result.sparse = Some(stats);
     Ok(result)
+}
+
+/// Whether the preload is past buckling (a caller that opted out of stopping): the negative
+/// modes are then the result, not an error.
+fn past_buckling(prestress: &Option<PrestressSummary>) -> bool {
+    prestress
+        .as_ref()
+        .and_then(|p| p.buckling_factor)
+        .is_some_and(|f| f < 1.0)
 }
 
 /// Every mode by the dense solver, then the ones asked for (`modes`, `fmax_hz`) kept, each
@@ -478,13 +493,13 @@ fn dense_modes(
         .map(|c| (g.lambda[c], (0..red.n_red).map(|r| g.phi[(r, c)]).collect()))
         .collect();
     m_orthonormalize(m, &mut shapes);
-    // Past buckling (a caller that opted out of stopping) the negative modes are the result.
-    let unstable = prestress
-        .as_ref()
-        .and_then(|p| p.buckling_factor)
-        .is_some_and(|f| f < 1.0);
-    let (rigid, worst) = check_dense_pairs(model, (k, m), &mut shapes, g.shift.abs(), unstable)?;
-    let max_backward_error = worst.0;
+    let (rigid, worst) = check_pairs(
+        model,
+        (k, m),
+        &mut shapes,
+        g.shift.abs(),
+        past_buckling(&prestress),
+    )?;
     let mut result = modal_result(
         model,
         red,
@@ -494,36 +509,53 @@ fn dense_modes(
         "dense (faer self-adjoint eigen, shift-invert)",
         prestress,
     );
-    mark_rigid_body(&mut result, rigid);
-    let (max_ratio, at) = checks::max_ratio(&g.pivot_ratio, rigid);
+    let (max_ratio, at) = flag_solution(model, red, &mut result, rigid, &g.pivot_ratio, worst);
+    result.dense = Some(checks::DenseStats {
+        shift: g.shift,
+        max_ratio,
+        max_ratio_at: checks::dof_name(model, red, at),
+        max_backward_error: worst.0,
+    });
+    Ok(result)
+}
+
+/// What either solver's checked pairs say about the result: the `rigid` zero modes marked,
+/// and warnings for a poorly conditioned stiffness (MAXRATIO over the pivot ratios of K − σM
+/// below the spectrum) and for pairs not solved to working precision (`worst` backward error
+/// and its mode). Returns MAXRATIO and its reduced DOF.
+fn flag_solution(
+    model: &FeModel,
+    red: &Reduction,
+    result: &mut ModalResult,
+    rigid: usize,
+    pivot_ratio: &[f64],
+    worst: (f64, usize),
+) -> (f64, usize) {
+    mark_rigid_body(result, rigid);
+    let (max_ratio, at) = checks::max_ratio(pivot_ratio, rigid);
     if max_ratio > checks::MAX_PIVOT_RATIO {
         let w = checks::conditioning_warning(model, red, max_ratio, at);
         result.warnings.push(w);
     }
     // A pivot that kept fewer digits than the zero test allows means the "rigid-body" modes
     // may be flexible modes drowned by a stiffness beyond double precision: say so.
-    let (raw_ratio, raw_at) = checks::max_ratio(&g.pivot_ratio, 0);
+    let (raw_ratio, raw_at) = checks::max_ratio(pivot_ratio, 0);
     if rigid > 0 && raw_ratio > checks::LOST_PIVOT_RATIO {
         let w = checks::conditioning_warning(model, red, raw_ratio, raw_at);
         result.warnings.push(format!(
             "the {rigid} zero-frequency modes may be an artefact: {w}"
         ));
     }
-    if max_backward_error > checks::MAX_BACKWARD_ERROR {
+    if worst.0 > checks::MAX_BACKWARD_ERROR {
         result.warnings.push(format!(
-            "modes not solved to working precision: backward error up to {max_backward_error:.2e} (> {:.0e}), worst at mode {} ({:.6e} Hz)",
+            "modes not solved to working precision: backward error up to {:.2e} (> {:.0e}), worst at mode {} ({:.6e} Hz)",
+            worst.0,
             checks::MAX_BACKWARD_ERROR,
             worst.1 + 1,
             result.modes[worst.1].frequency_hz
         ));
     }
-    result.dense = Some(checks::DenseStats {
-        shift: g.shift,
-        max_ratio,
-        max_ratio_at: checks::dof_name(model, red, at),
-        max_backward_error,
-    });
-    Ok(result)
+    (max_ratio, at)
 }
 
 /// How many of the ascending eigenvalues the options keep.
@@ -542,7 +574,7 @@ fn dense_kept(lambda: &[f64], opts: &ModalOptions) -> usize {
 /// Checks every kept pair: a round-off zero becomes exactly 0 (so the rigid-body modes form
 /// one cluster and get aligned with the axes), a negative λ beyond round-off is an error.
 /// Returns the number of zeros and the largest backward error with its mode index.
-fn check_dense_pairs(
+fn check_pairs(
     model: &FeModel,
     (k, m): (&Triplets, &Triplets),
     shapes: &mut [(f64, Vec<f64>)],

@@ -31,6 +31,13 @@ pub struct SparseStats {
     pub max_backward_error: f64,
     /// Values of the factor L, per factorization.
     pub factor_nnz: usize,
+    /// Largest ratio of a diagonal entry of K − σM to its pivot, σ below the spectrum (as the
+    /// dense path's `max_ratio`, one pivot per rigid-body mode discounted) and where it is.
+    pub max_ratio: f64,
+    pub max_ratio_at: String,
+    /// A_ii / d_i of the factor below the spectrum, per reduced DOF (input order).
+    #[serde(skip)]
+    pub pivot_ratio: Vec<f64>,
 }
 
 /// The completeness proof: `expected` modes lie below `fmax_hz` by the Sturm count, `found`
@@ -163,6 +170,7 @@ fn shift_below_spectrum(
     for _ in 0..12 {
         let fac = factor_away_from_eigenvalue(pencil, -s, stats)?;
         if fac.negative == 0 {
+            stats.pivot_ratio = fac.pivot_ratios();
             return Ok(fac.sigma);
         }
         s *= 100.0;

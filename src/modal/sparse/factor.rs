@@ -280,6 +280,19 @@ impl Factor<'_> {
         })
     }
 
+    /// A_ii / d_i of every unknown, in input order: the ratio Nastran reports as MAXRATIO at
+    /// its largest (the digits of A_ii the elimination lost).
+    pub fn pivot_ratios(&self) -> Vec<f64> {
+        let p = self.pencil;
+        let mut ratio = vec![1.0; p.n];
+        for i in 0..p.n {
+            let o = p.original(i);
+            let a = p.diag_k[o] - self.sigma * p.diag_m[o];
+            ratio[o] = a / self.pivots[i];
+        }
+        ratio
+    }
+
     /// Smallest |d_i| / |A_ii|: how close σ sits to an eigenvalue.
     pub(super) fn min_relative_pivot(&self) -> f64 {
         let p = self.pencil;

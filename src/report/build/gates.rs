@@ -35,6 +35,18 @@ pub fn preamble(q: &Qualification) -> Vec<Block> {
             )
         })
         .collect();
+    let warnings: Vec<ListItem> = q
+        .modal
+        .iter()
+        .flat_map(|m| &m.result.warnings)
+        .map(|w| {
+            ListItem::new(
+                Text::plain("")
+                    .strong("warning")
+                    .and(format!(" (modal solve): {w}")),
+            )
+        })
+        .collect();
     vec![
         Block::Verdict(VerdictLine {
             pass: q.pass,
@@ -48,6 +60,7 @@ pub fn preamble(q: &Qualification) -> Vec<Block> {
         ),
         Block::Table(governing),
         Block::List(skipped),
+        Block::List(warnings),
     ]
 }
 
