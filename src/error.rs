@@ -190,16 +190,25 @@ pub enum SeparationError {
         "the separation run produced a non-finite state at t = {time_s} s in {body}; stopped, nothing written"
     )]
     NonFinite { time_s: f64, body: String },
-    /// The adaptive step fell below the round-off floor: the problem is too stiff for the tolerance.
+    /// The adaptive step fell below the round-off floor: the problem is too stiff for the
+    /// tolerance; `cause` names the stiffest element and the step it implies.
     #[error(
-        "the step size fell to {step_s:e} s at t = {time_s} s (round-off floor); loosen the tolerance or soften the contact"
+        "key `separation.tolerance`: the step size fell to {step_s:e} s at t = {time_s} s (round-off floor); {cause}; loosen the tolerance or soften that element"
     )]
-    StepTooSmall { time_s: f64, step_s: f64 },
-    /// The step budget ran out before the end of the run.
+    StepTooSmall {
+        time_s: f64,
+        step_s: f64,
+        cause: String,
+    },
+    /// The step budget ran out before the end of the run; `cause` as for `StepTooSmall`.
     #[error(
-        "more than {max_steps} steps before t = {time_s} s; raise max_steps or loosen the tolerance"
+        "key `separation.max_steps`: more than {max_steps} steps before t = {time_s} s; {cause}; raise separation.max_steps, loosen separation.tolerance or soften that element"
     )]
-    TooManySteps { time_s: f64, max_steps: usize },
+    TooManySteps {
+        time_s: f64,
+        max_steps: usize,
+        cause: String,
+    },
     /// The model cannot be built (e.g. the bar modes failed).
     #[error("{0}")]
     Invalid(String),

@@ -190,3 +190,22 @@ fn separation_inputs_that_would_run_for_minutes_are_refused() {
         );
     }
 }
+
+/// A step budget that runs out, and a tolerance the contact cannot meet, each stop the run
+/// with the scene key and the stiffest element with the step it implies (the bore contact of
+/// the reference stack: K = 2.5e9 N/m^1.5 on a 130 kg satellite lasts about 4.9 ms at 0.1 m/s).
+#[test]
+fn separation_out_of_steps_names_the_key_and_the_stiffest_element() {
+    let dir = temp_dir("hostile-steps");
+    let f = dir.join("steps.toml");
+    let text = paper_stack().replacen("tolerance = 1e-6", "tolerance = 1e-6\nmax_steps = 500", 1);
+    std::fs::write(&f, text).unwrap();
+    let (code, _, err) = run_text(&["separate", f.to_str().unwrap(), "--json"], None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("key `separation.max_steps`")
+            && err.contains("the stiffest element is the contact")
+            && err.contains("contact time of about 4.851e-3 s"),
+        "{err}"
+    );
+}

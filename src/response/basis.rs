@@ -108,7 +108,7 @@ pub fn build(
     for m in &modes[..keep] {
         if m.eigenvalue <= 0.0 {
             return Err(ResponseError::Invalid(format!(
-                "mode {} has a non-positive eigenvalue ({:.3e}): the model is not supported against rigid motion, so it cannot be driven by its supports",
+                "key `support`: mode {} has a non-positive eigenvalue ({:.3e} rad²/s², a rigid-body mode): the supports leave the model free to move, so it cannot be driven by them; hold every rigid-body direction with a [[support]]",
                 m.index, m.eigenvalue
             ))
             .into());
@@ -121,7 +121,7 @@ pub fn build(
         let kd = dense(n, &sys.k);
         let x = crate::modal::dense::solve_spd(&kd, &p).map_err(|_| {
             ResponseError::Invalid(
-                "the stiffness matrix is not positive definite: the structure is not fully supported, so no static residual vector exists".into(),
+                "key `support`: the stiffness matrix is not positive definite: the structure is not fully supported, so no static residual vector exists; hold every rigid-body direction with a [[support]]".into(),
             )
         })?;
         let mv = |v: &[f64]| -> Vec<f64> {

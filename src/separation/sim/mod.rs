@@ -50,6 +50,7 @@ mod releases;
 mod results;
 mod statics;
 mod stepping;
+mod stiffness_scale;
 mod wedging;
 
 pub use results::{

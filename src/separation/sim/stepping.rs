@@ -10,6 +10,7 @@ use super::Sim;
 use super::records::Records;
 use super::releases::release_schedule;
 use super::results::{RunOptions, SeparationResult};
+use super::stiffness_scale::stiffest_element;
 use crate::error::SeparationError;
 
 /// The integrator and the event bookkeeping carried from one step to the next.
@@ -122,6 +123,7 @@ impl Sim<'_> {
             return Err(SeparationError::TooManySteps {
                 time_s: st.ig.t,
                 max_steps: m.max_steps,
+                cause: stiffest_element(m),
             });
         }
         // A non-finite derivative at an accepted state (e.g. a zero inertia under a torque)
@@ -154,6 +156,7 @@ impl Sim<'_> {
             StepFailure::TooSmall { t, h } => SeparationError::StepTooSmall {
                 time_s: t,
                 step_s: h,
+                cause: stiffest_element(self.m),
             },
             StepFailure::NonFinite { t, index } => {
                 let mut probe = vec![0.0; self.dim];
