@@ -12,6 +12,7 @@ use super::eigen::SparseStats;
 use super::factor::{Pencil, factor_away_from_eigenvalue, factor_in_gap};
 use super::slice::{SLICE_MODES, run_slice};
 use super::{Pair, SparseError};
+use crate::error::ModalError;
 use faer::Mat;
 
 /// Modes aimed for per parallel band of the spectrum. A band's first slice starts with
@@ -105,7 +106,11 @@ pub(super) fn run_band(
     let mut prev = Mat::<f64>::zeros(n, 0);
     let mut seed = seed0;
     let mut bufs = None;
-    loop {
+    // Each slice accepts at least one mode or widens by up to 4×, so a band needs at most
+    // one slice per mode plus the widenings across the whole double range; past that the
+    // band has stopped advancing, which is an error, not a hang.
+    let budget = target.saturating_sub(c_bottom) + MAX_EMPTY_SLICES;
+    for _ in 0..=budget {
         stats.slices += 1;
         let out = run_slice(
             m,
@@ -130,11 +135,18 @@ pub(super) fn run_band(
         stats.sturm_sigma = out.b;
         stats.sturm_count = out.c_b;
         if c_a >= target || top_pair.is_some_and(|(ts, _)| out.b >= ts) {
-            break;
+            return Ok(accepted);
         }
     }
-    Ok(accepted)
+    Err(ModalError::NoConvergence(format!(
+        "shift-invert Lanczos: the band above σ = {bottom:e} rad²/s² did not advance past σ = {a:e} rad²/s² ({c_a} of {target} modes) within {budget} slices"
+    ))
+    .into())
 }
+
+/// Slices without a new mode a band may take: 4× widenings span 2^2046 (the whole double
+/// range) in 512 steps.
+const MAX_EMPTY_SLICES: usize = 512;
 
 #[cfg(test)]
 mod tests {
