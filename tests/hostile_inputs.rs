@@ -209,3 +209,55 @@ fn separation_out_of_steps_names_the_key_and_the_stiffest_element() {
         "{err}"
     );
 }
+
+/// Every size limit is the scene's `[limits]`: lowered, a normal scene is refused naming the
+/// key that drives the size and the one that raises the limit; raised, a larger model loads.
+#[test]
+fn limits_are_scene_keys() {
+    let with = |base: String, limits: &str| format!("{base}\n[limits]\n{limits}\n");
+    let refused = |text: &str| match satqual::spec::Scene::parse("bad.toml".as_ref(), text) {
+        Ok(_) => panic!("accepted"),
+        Err(e) => e.to_string(),
+    };
+    let e = refused(&with(cantilever(), "model_elements = 19"));
+    assert!(
+        e.contains("key `beam[0].elements`")
+            && e.contains("limit of 19")
+            && e.contains("`limits.model_elements`"),
+        "{e}"
+    );
+    let e = refused(&with(cantilever(), "grid_points = 0"));
+    assert!(e.contains("key `limits.grid_points`"), "{e}");
+    // 300 000 elements are above the default limit and load under a raised one (the scene is
+    // only validated here: nothing is assembled).
+    let big = cantilever().replacen("elements = 20", "elements = 300000", 1);
+    assert!(refused(&big).contains("limit of 200000"));
+    crate::common::parse(&with(big, "model_elements = 400000"));
+    let dir = temp_dir("hostile-limits");
+    let f = dir.join("grid.toml");
+    std::fs::write(&f, with(sdof(), "grid_points = 10")).unwrap();
+    let (code, _, err) = run_text(&["sine", f.to_str().unwrap(), "--json"], None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("above the limit of 10") && err.contains("key `limits.grid_points`"),
+        "{err}"
+    );
+    let f = dir.join("runs.toml");
+    std::fs::write(&f, with(paper_stack(), "monte_carlo_runs = 3")).unwrap();
+    let args = [
+        "separate",
+        f.to_str().unwrap(),
+        "--monte-carlo",
+        "4",
+        "--seed",
+        "1",
+        "--json",
+    ];
+    let (code, _, err) = run_text(&args, None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--monte-carlo 4 is above the limit of 3")
+            && err.contains("key `limits.monte_carlo_runs`"),
+        "{err}"
+    );
+}

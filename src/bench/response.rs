@@ -136,6 +136,7 @@ pub fn run() -> Result<(String, String), Error> {
                 per_mode: pm,
                 halfwidth: 5.0,
                 tail_ratio: tail,
+                ..GridSpec::RANDOM
             };
             let t = Instant::now();
             let f = crate::response::random::grid_for(&spec, &basis, g)?;
@@ -185,6 +186,7 @@ pub fn run() -> Result<(String, String), Error> {
         per_mode: 401,
         halfwidth: 4.0,
         tail_ratio: 0.0,
+        ..GridSpec::SINE
     };
     let r = crate::response::sine::run(
         &p2,
@@ -220,6 +222,7 @@ pub fn run() -> Result<(String, String), Error> {
             per_mode: pm,
             halfwidth: 4.0,
             tail_ratio: 0.0,
+            ..GridSpec::SINE
         };
         let t = Instant::now();
         let f = grid::clustered(slo, shi, &modes2, g, &[5.0, 8.0, 100.0])?;

@@ -70,6 +70,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             args.scene.display()
         )));
     }
+    satqual::pipeline::plan::check_runs(&scene, runs, "--monte-carlo")?;
     let cwd = std::env::current_dir().map_err(|e| Error::io(".", e))?;
     let exe = std::env::current_exe().map_err(|e| Error::io("satqual", e))?;
     let dir = cwd.join(&args.dir);

@@ -115,6 +115,7 @@ fn run_shard(
     seed: u64,
     out: &Path,
 ) -> Result<Outcome, Error> {
+    satqual::pipeline::plan::check_runs(scene, runs, "--monte-carlo")?;
     let model = Model::from_scene(scene)?;
     let range = shard.range(runs);
     let results = separation::montecarlo::realizations(&model, seed, range.clone())?;

@@ -8,7 +8,7 @@ use crate::results::Skipped;
 use crate::separation::order_stats;
 use crate::signal::{Detrend, IngestOptions, WelchOptions, Window};
 use crate::spec::analysis::{RandomSpec, SineSpec, axis_index};
-use crate::spec::separation::{MAX_MONTE_CARLO_RUNS, RunsWanted};
+use crate::spec::separation::RunsWanted;
 use crate::spec::{GatesSpec, LogKind, Scene, SolverChoice, TestLogSpec};
 use std::path::PathBuf;
 
@@ -218,17 +218,33 @@ pub fn dispersion_seed(scene: &Scene) -> u64 {
 /// The fewest runs whose extreme sample bounds `probability` at `confidence` (Wilks).
 fn auto_runs(scene: &Scene, probability: f64, confidence: f64) -> Result<usize, Error> {
     let n = order_stats::runs_needed(probability, confidence).unwrap_or(usize::MAX);
-    if n > MAX_MONTE_CARLO_RUNS {
+    let limit = scene.file.limits().monte_carlo_runs;
+    if n > limit {
         let e = scene.locator().err(
             "separation.dispersion.probability",
             format!(
                 "{probability} at {confidence} confidence needs {n} runs, above the limit of \
-                 {MAX_MONTE_CARLO_RUNS}"
+                 {limit}; {}",
+                crate::spec::limits::raise_hint("monte_carlo_runs")
             ),
         );
         return Err(e.into());
     }
     Ok(n)
+}
+
+/// Refuses a Monte Carlo run count given on the command line (`flag`) above the scene's
+/// `[limits] monte_carlo_runs`, before any run is made.
+pub fn check_runs(scene: &Scene, runs: usize, flag: &str) -> Result<(), Error> {
+    let limit = scene.file.limits().monte_carlo_runs;
+    if runs > limit {
+        return Err(Error::Other(format!(
+            "{}: {flag} {runs} is above the limit of {limit} Monte Carlo runs (key `limits.monte_carlo_runs`); {}",
+            scene.path.display(),
+            crate::spec::limits::raise_hint("monte_carlo_runs")
+        )));
+    }
+    Ok(())
 }
 
 /// What is not run and why, in the order the report lists it.

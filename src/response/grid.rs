@@ -23,6 +23,9 @@ pub struct GridSpec {
     /// of fn; 0 = none. The Lorentzian tail beyond ±5ζ still holds ~13 % of a mode's mean
     /// square, and it is a power law in (f − fn), not in f, so a log grid resolves it poorly.
     pub tail_ratio: f64,
+    /// Most points the grid may have (`[limits] grid_points`), checked on the estimate before
+    /// any point is made.
+    pub max_points: usize,
 }
 
 impl GridSpec {
@@ -32,6 +35,7 @@ impl GridSpec {
         per_mode: 81,
         halfwidth: 4.0,
         tail_ratio: 0.0,
+        max_points: MAX_GRID_POINTS,
     };
     /// The random default: Grms error 4e-4 % at Q = 15 and 7e-3 % at Q = 100 on the paper
     /// stack (reports/bench/response.md); without the tails, 0.6 % at Q = 100.
@@ -40,13 +44,13 @@ impl GridSpec {
         per_mode: 41,
         halfwidth: 5.0,
         tail_ratio: 1.25,
+        max_points: MAX_GRID_POINTS,
     };
 }
 
-/// The most frequency points a response grid may have. Every point costs a complex solve per
-/// output, so a grid this size already takes minutes; a larger estimate comes from a mutated
-/// band or damping, and is refused before anything is allocated.
-pub const MAX_GRID_POINTS: usize = 2_000_000;
+/// The default most frequency points of a response grid; a larger estimate comes from a
+/// mutated band or damping, and is refused before anything is allocated.
+pub const MAX_GRID_POINTS: usize = crate::spec::limits::GRID_POINTS;
 
 /// Clustered grid over [lo, hi] for modes `(fn_hz, zeta)`; `extra` points (profile
 /// breakpoints) are added when inside the band. The band and the damping are checked and the
@@ -60,9 +64,11 @@ pub fn clustered(
 ) -> Result<Vec<f64>, ResponseError> {
     check_band(lo, hi)?;
     let estimate = estimate_points(lo, hi, modes, spec).saturating_add(extra.len());
-    if estimate > MAX_GRID_POINTS {
+    if estimate > spec.max_points {
         return Err(ResponseError::Invalid(format!(
-            "the frequency grid over {lo}..{hi} Hz would have about {estimate} points, above the limit of {MAX_GRID_POINTS}; narrow the band or check the damping (Q, zeta) of the modes"
+            "the frequency grid over {lo}..{hi} Hz would have about {estimate} points, above the limit of {}; narrow the band or check the damping (Q, zeta) of the modes; {}",
+            spec.max_points,
+            crate::spec::limits::raise_hint("grid_points")
         )));
     }
     Ok(build(lo, hi, modes, spec, extra))

@@ -120,7 +120,7 @@ impl Model {
                 .err("separation", "[separation] needs a [stack] section: the satellite and bar geometry come from it")
                 .into());
         };
-        sepspec::validate(sep, stack, &loc)?;
+        sepspec::validate(sep, stack, &f.limits(), &loc)?;
         let n = stack.satellites;
         let bar_material = f
             .material

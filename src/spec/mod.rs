@@ -12,6 +12,7 @@ pub mod damping_edit;
 #[cfg(test)]
 mod doc_keys;
 pub mod environment;
+pub mod limits;
 pub mod model;
 pub mod plausible;
 pub mod qualify;
@@ -91,6 +92,16 @@ pub struct SceneFile {
     /// read the scene as written, without it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep: Option<sweep::SweepSpec>,
+    /// The largest work the scene may ask for; absent, the defaults of [`limits`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limits: Option<limits::LimitsSpec>,
+}
+
+impl SceneFile {
+    /// The scene's `[limits]`, or the defaults.
+    pub fn limits(&self) -> limits::LimitsSpec {
+        self.limits.clone().unwrap_or_default()
+    }
 }
 
 /// A loaded and validated scene, with its source kept for error locations and provenance.
@@ -116,9 +127,11 @@ impl Scene {
         let loc = Locator::new(path, text)?;
         loc.check_finite()?;
         let file: SceneFile = toml::from_str(text).map_err(|e| loc.toml_error(&e))?;
+        let limits = file.limits();
+        limits.validate(&loc)?;
         let mut model = match &file.stack {
             Some(stack) => {
-                stack.validate(&file.material, &loc)?;
+                stack.validate(&file.material, &limits, &loc)?;
                 let mut m = file.clone();
                 m.stack = None;
                 stack.expand_into(&mut m);

@@ -208,23 +208,20 @@ pub struct ModalSpec {
     pub solver: SolverChoice,
 }
 
-/// The most beam elements a model may have (6 DOFs per node, so about 1.2 million DOFs): far
-/// above any real stack model, and below what fits in memory with the solvers' factors. A
-/// larger count is a typo or a mutated file, refused before the model is assembled.
-pub const MAX_MODEL_ELEMENTS: usize = 200_000;
-
-/// Checks the model's total element count against [`MAX_MODEL_ELEMENTS`], naming the beam
+/// Checks the model's total element count against `[limits] model_elements`, naming the beam
 /// whose count pushes the total over the limit.
 fn check_model_size(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
+    let limit = f.limits().model_elements;
     let mut total: usize = 0;
     for (i, b) in f.beam.iter().enumerate() {
         total = total.saturating_add(b.elements);
-        if total > MAX_MODEL_ELEMENTS {
+        if total > limit {
             return Err(loc.err(
                 &format!("beam[{i}].elements"),
                 format!(
-                    "the model would have at least {total} beam elements ({} on this beam), above the limit of {MAX_MODEL_ELEMENTS}",
-                    b.elements
+                    "the model would have at least {total} beam elements ({} on this beam), above the limit of {limit}; {}",
+                    b.elements,
+                    super::limits::raise_hint("model_elements")
                 ),
             ));
         }

@@ -436,12 +436,13 @@ pub mod defaults {
 
 /// Checks signs, ranges and references of `[separation]` against `[stack]`. Every error names
 /// the key.
-/// The most Monte Carlo runs a scene may ask for: each run is a full release simulation.
-pub const MAX_MONTE_CARLO_RUNS: usize = 100_000;
-
 /// Plausible ranges of the release spring and of the run's length: a stiff spring or a long
 /// stroke makes the integrator take steps for minutes, with no result worth having.
-fn check_spring_and_budget(spec: &SeparationSpec, loc: &Locator) -> Result<(), SpecError> {
+fn check_spring_and_budget(
+    spec: &SeparationSpec,
+    max_runs: usize,
+    loc: &Locator,
+) -> Result<(), SpecError> {
     use super::plausible::{SEPARATION_SPRING_N_M, SEPARATION_TIME_S, STROKE_M, check};
     let sp = &spec.spring;
     check(
@@ -460,10 +461,13 @@ fn check_spring_and_budget(spec: &SeparationSpec, loc: &Locator) -> Result<(), S
     let d = &spec.dispersion;
     match d.runs_wanted() {
         Err(e) => return Err(loc.err("separation.dispersion.runs", e)),
-        Ok(RunsWanted::Count(n)) if n > MAX_MONTE_CARLO_RUNS => {
+        Ok(RunsWanted::Count(n)) if n > max_runs => {
             return Err(loc.err(
                 "separation.dispersion.runs",
-                format!("{n} runs is above the limit of {MAX_MONTE_CARLO_RUNS}"),
+                format!(
+                    "{n} runs is above the limit of {max_runs}; {}",
+                    super::limits::raise_hint("monte_carlo_runs")
+                ),
             ));
         }
         Ok(_) => {}
@@ -485,7 +489,12 @@ fn check_stiffness_error(loc: &Locator, key: &str, e: f64) -> Result<(), SpecErr
     super::plausible::check(loc, key, e.abs(), super::plausible::STIFFNESS_ERROR)
 }
 
-pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Result<(), SpecError> {
+pub fn validate(
+    spec: &SeparationSpec,
+    stack: &StackSpec,
+    limits: &super::limits::LimitsSpec,
+    loc: &Locator,
+) -> Result<(), SpecError> {
     let n = stack.satellites;
     // Finite, not subnormal and at most 1e30: a NaN fails every comparison, so the tests are
     // written to accept, not to refuse.
@@ -605,7 +614,7 @@ pub fn validate(spec: &SeparationSpec, stack: &StackSpec, loc: &Locator) -> Resu
     let sp = &spec.spring;
     pos("separation.spring.stiffness_n_m", sp.stiffness_n_m)?;
     pos("separation.spring.stroke_m", sp.stroke_m)?;
-    check_spring_and_budget(spec, loc)?;
+    check_spring_and_budget(spec, limits.monte_carlo_runs, loc)?;
     pos(
         "separation.spring.installed_length_m",
         sp.installed_length_m,

@@ -248,7 +248,12 @@ impl StackSpec {
     }
 
     /// Checks the stack's own consistency (the generic checks run on the expansion).
-    pub fn validate(&self, materials: &[super::Material], loc: &Locator) -> Result<(), SpecError> {
+    pub fn validate(
+        &self,
+        materials: &[super::Material],
+        limits: &super::limits::LimitsSpec,
+        loc: &Locator,
+    ) -> Result<(), SpecError> {
         let k = |s: &str| format!("stack.{s}");
         if self.satellites == 0 {
             return Err(loc.err(&k("satellites"), "a stack needs at least one satellite"));
@@ -320,7 +325,7 @@ impl StackSpec {
         if self.column_elements == 0 || self.bar_elements_per_satellite == 0 {
             return Err(loc.err(&k("column_elements"), "element counts must be at least 1"));
         }
-        self.check_size(loc)?;
+        self.check_size(limits.model_elements, loc)?;
         if self.column_inner_diameter_m >= self.column_outer_diameter_m {
             return Err(loc.err(
                 &k("column_inner_diameter_m"),
@@ -366,8 +371,7 @@ impl StackSpec {
     /// Expands the stack into generic-model parts appended to `f` (materials stay as given).
     /// The expanded model's element count, estimated before expansion: two column halves on
     /// each of four columns per satellite, and four bars of one segment per level.
-    fn check_size(&self, loc: &Locator) -> Result<(), SpecError> {
-        let limit = super::model::MAX_MODEL_ELEMENTS;
+    fn check_size(&self, limit: usize, loc: &Locator) -> Result<(), SpecError> {
         let columns = self
             .satellites
             .saturating_mul(8)
@@ -389,8 +393,9 @@ impl StackSpec {
         Err(loc.err(
             key,
             format!(
-                "the stack of {} satellites would expand to about {total} beam elements ({columns} in the columns, {bars} in the guide bars), above the limit of {limit}",
-                self.satellites
+                "the stack of {} satellites would expand to about {total} beam elements ({columns} in the columns, {bars} in the guide bars), above the limit of {limit}; {}",
+                self.satellites,
+                super::limits::raise_hint("model_elements")
             ),
         ))
     }

@@ -10,7 +10,6 @@ use crate::results::{SweepPoint, SweepTable};
 use crate::separation::montecarlo::{Demand, aggregate, realize};
 use crate::separation::{Model, Realization};
 use crate::spec::Scene;
-use crate::spec::separation::MAX_MONTE_CARLO_RUNS;
 use crate::spec::sweep::SweepSpec;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -35,13 +34,14 @@ impl<'a> SweepJob<'a> {
                 base.path.display()
             ))
         })?;
-        if runs == 0 || runs > MAX_MONTE_CARLO_RUNS {
+        if runs == 0 {
             return Err(Error::Other(format!(
-                "{}: a sweep needs 1 to {MAX_MONTE_CARLO_RUNS} Monte Carlo runs per point \
-                 (--monte-carlo N or [separation.dispersion] runs), not {runs}",
+                "{}: a sweep needs at least 1 Monte Carlo run per point \
+                 (--monte-carlo N or [separation.dispersion] runs)",
                 base.path.display()
             )));
         }
+        crate::pipeline::plan::check_runs(base, runs, "--monte-carlo")?;
         let satellites = Model::from_scene(base)?.n_satellites();
         Ok(SweepJob {
             base,

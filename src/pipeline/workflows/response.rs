@@ -102,7 +102,8 @@ fn default_modal(scene: &Scene) -> ModalOptions {
 }
 
 fn sine_axes(prep: &Prepared, plan: &AxesPlan<SineSpec>) -> Result<Vec<SineAxis>, Error> {
-    let opts = SineOptions::default();
+    let mut opts = SineOptions::default();
+    opts.grid.max_points = prep.scene.file.limits().grid_points;
     plan.axes
         .iter()
         .map(|&a| response::sine::run(prep, &plan.spec, a, &opts))
@@ -115,7 +116,8 @@ fn random_axes(
     prep: &Prepared,
     plan: &AxesPlan<RandomSpec>,
 ) -> Result<(Vec<RandomAxis>, RandomEnvironment), Error> {
-    let opts = RandomOptions::default();
+    let mut opts = RandomOptions::default();
+    opts.grid.max_points = prep.scene.file.limits().grid_points;
     let mass = prep.sys.result.total_mass_kg;
     let (spec, env) = plan
         .spec

@@ -26,6 +26,9 @@ pub fn run(
     req: &SeparateRequest,
     progress: &dyn Progress,
 ) -> Result<SeparateRun, Error> {
+    if let Some(mc) = req.monte_carlo {
+        crate::pipeline::plan::check_runs(scene, mc.runs, "--monte-carlo")?;
+    }
     progress.stage("separation dynamics");
     let model = Model::from_scene(scene)?;
     let opts = RunOptions {
