@@ -89,3 +89,25 @@ fn impact_h1_finds_the_source_md_peaks_with_high_coherence() {
     // SOURCE.md: 0.999; three decimals as stated.
     assert!((median - 0.999).abs() < 0.0005, "{median}");
 }
+
+#[test]
+fn the_same_channel_as_input_and_output_is_an_error_naming_it() {
+    let log = dir().join("impact_1.csv");
+    let (code, out, err) = crate::common::run_text(
+        &[
+            "frf",
+            log.to_str().unwrap(),
+            "--input",
+            "force",
+            "--output",
+            "force",
+        ],
+        None,
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(out.is_empty(), "{out}");
+    assert!(
+        err.contains("`force`") && err.contains("both --input and --output"),
+        "{err}"
+    );
+}

@@ -187,6 +187,12 @@ pub fn frf_of_files(
     ingest: &super::ingest::IngestOptions,
     opts: &WelchOptions,
 ) -> Result<Frf, SignalError> {
+    if input == output {
+        return Err(SignalError::Channel {
+            channel: input.to_string(),
+            message: "named as both --input and --output: an FRF of a channel on itself is 1 on every line; name the response channel as --output".into(),
+        });
+    }
     let mut ing = ingest.clone();
     ing.channels = Some(vec![input.to_string(), output.to_string()]);
     let logs: Vec<super::ingest::Log> = paths
