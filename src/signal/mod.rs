@@ -18,9 +18,11 @@
 pub mod bands;
 pub mod ema;
 pub mod frf;
+pub mod impact;
 pub mod ingest;
 pub mod logpsd;
 pub mod peaks;
+pub mod screen;
 pub mod signature;
 pub mod srs;
 pub mod sweep;
