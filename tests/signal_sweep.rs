@@ -155,6 +155,9 @@ fn sweep_cli_reports_fn_and_q_from_a_csv_log() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let r = &v["responses"][0];
     assert_eq!(r["name"], "accel_g");
+    // The reader's decisions, as `psd --json` records them.
+    assert_eq!(v["ingest"]["delimiter"], "comma");
+    assert_eq!(v["ingest"]["time_column"], "time_s");
     let f = r["resonance"]["frequency_hz"].as_f64().unwrap();
     let qq = r["resonance"]["q"].as_f64().unwrap();
     eprintln!("cli sweep: fn {f:.4} Hz, Q {qq:.3}");

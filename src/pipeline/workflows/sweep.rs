@@ -25,6 +25,8 @@ pub struct SweepRun {
     pub track: SweepTrack,
     /// Per response, its dominant resonance inside the tracked band.
     pub resonances: Vec<Option<Resonance>>,
+    /// The reader's decisions about the log.
+    pub ingest: crate::signal::ingest::IngestRecord,
 }
 
 pub fn run(req: &SweepRequest) -> Result<SweepRun, Error> {
@@ -67,5 +69,6 @@ pub fn run(req: &SweepRequest) -> Result<SweepRun, Error> {
         responses: names,
         track,
         resonances,
+        ingest: log.info.ingest,
     })
 }
