@@ -35,7 +35,7 @@ impl ExcitedBand {
 /// `excitation_db` of its peak; `None` when the input is zero above DC.
 pub fn excited_band(freqs: &[f64], gxx: &[f64], excitation_db: f64) -> Option<ExcitedBand> {
     let peak = gxx.iter().skip(1).fold(0.0f64, |m, &v| m.max(v));
-    if !(peak > 0.0) {
+    if peak <= 0.0 {
         return None;
     }
     let level = peak * 10f64.powf(-excitation_db / 10.0);

@@ -182,7 +182,7 @@ pub const MIN_LINES_IN_BAND: usize = 16;
 pub fn resolution_note(fs: f64, nperseg: usize, lo: f64, hi: f64) -> Option<String> {
     let df = fs / nperseg as f64;
     let lines = ((hi - lo) / df).floor() + 1.0;
-    if !(lines < MIN_LINES_IN_BAND as f64) || hi <= lo {
+    if !lines.is_finite() || lines >= MIN_LINES_IN_BAND as f64 || hi <= lo {
         return None;
     }
     let needed = (MIN_LINES_IN_BAND as f64 * fs / (hi - lo)).ceil();
