@@ -59,7 +59,7 @@ fn expect_error(p: &Path, opts: &IngestOptions, extra: &[&str], needles: &[&str]
         e.contains(&p.display().to_string()),
         "message `{e}` does not name the file"
     );
-    let mut args = vec!["psd", p.to_str().unwrap(), "--nperseg", "4"];
+    let mut args = vec!["psd", p.to_str().unwrap(), "--nperseg", "16"];
     args.extend(extra);
     let (code, _, err) = cli(&args, None);
     assert_eq!(code, 2, "CLI exit for {}: {err}", p.display());

@@ -113,3 +113,32 @@ fn frf_cli_writes_curves_and_plots() {
     }
     std::fs::remove_dir_all(&out).ok();
 }
+
+#[test]
+fn nperseg_below_the_minimum_is_an_error_and_a_coarse_one_a_warning() {
+    // A 1-sample Hann window is 0: every PSD would be 0 (Grms 0 on live channels).
+    let f = file();
+    let (code, _, err) =
+        crate::common::run_text(&["psd", f.to_str().unwrap(), "--nperseg", "1"], None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("nperseg") && err.contains("at least 16"),
+        "{err}"
+    );
+    // 16 is the documented minimum: accepted. At 3200 Hz it gives 200 Hz lines, 9 of them
+    // over 0–1600 Hz: fewer than the 16 a band needs, so a warning names the nperseg to pass
+    // (16 lines over 1600 Hz: 16·3200/1600 = 32).
+    let (code, out, err) = crate::common::run_text(
+        &["psd", f.to_str().unwrap(), "--nperseg", "16", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let w = v["warnings"][0].as_str().unwrap();
+    assert!(w.contains("9 line(s)") && w.contains("--nperseg 32"), "{w}");
+    assert!(err.contains(&format!("warning: {w}")), "{err}");
+    // The default segment resolves the whole band: no warning.
+    let (_, out, _) = crate::common::run_text(&["psd", f.to_str().unwrap(), "--json"], None);
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["warnings"], serde_json::json!([]));
+}

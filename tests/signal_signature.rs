@@ -128,3 +128,74 @@ fn mode_dropping_6_percent_fails_and_is_named_intact_passes() {
     assert!(err.contains("mode 2") && err.contains("FAIL"), "{err}");
     std::fs::remove_dir_all(&d).ok();
 }
+
+#[test]
+fn two_hits_of_one_structure_pass_with_the_default_options() {
+    // Hits 1 and 2 of data/realdata/pyfrf-impact (one structure, SOURCE.md): with Hann
+    // segments they failed 9 of 10 modes on noise; the detected impact switches to one boxcar
+    // segment per hit. Same structure: every mode within the default 5% / 20% criteria.
+    let hit = |i: usize| {
+        crate::common::repo_path(&satqual::catalogue::logs::impact(i))
+            .display()
+            .to_string()
+    };
+    let (a, b) = (hit(1), hit(2));
+    let (code, v, err) = run(&[
+        "signature",
+        &a,
+        &b,
+        "--input",
+        "force",
+        "--output",
+        "acceleration",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(v["pass"], true, "{v}");
+    assert_eq!(v["modes"].as_array().unwrap().len(), 10);
+    assert_eq!(v["before_run"]["impact"]["detected"], true);
+    assert_eq!(v["after_run"]["window"], "boxcar");
+    assert!(err.contains("impact input detected"), "{err}");
+    // Modes only in the band the hammer excites (its force within 20 dB of its peak).
+    let hi = v["before_run"]["screen"]["searched_hz"][1]
+        .as_f64()
+        .unwrap();
+    for m in v["modes"].as_array().unwrap() {
+        assert!(m["before_hz"].as_f64().unwrap() <= hi, "{m}");
+    }
+}
+
+#[test]
+fn a_multi_tone_dwell_is_neither_passed_nor_failed() {
+    // The shaker beam (data/realdata/usc-shaker-beam, SOURCE.md) is driven by a 100+120+150 Hz
+    // multi-tone: its load cell excites discrete lines, not a band, and |H1| between them is
+    // noise. Neither the log against itself nor its first half against its second may PASS
+    // or FAIL on that noise: the comparison is refused (exit 2) with the reason.
+    let beam = crate::common::repo_path(satqual::catalogue::logs::SHAKER_BEAM);
+    let text = std::fs::read_to_string(&beam).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let half = lines.len() / 2;
+    let d = tmp("tonal");
+    let (first, second) = (d.join("first.csv"), d.join("second.csv"));
+    std::fs::write(&first, lines[..half].join("\n")).unwrap();
+    let mut rest = vec![lines[0]];
+    rest.extend(&lines[half..]);
+    std::fs::write(&second, rest.join("\n")).unwrap();
+    for (b, a) in [(&beam, &beam), (&first, &second)] {
+        let (code, v, err) = run(&[
+            "signature",
+            b.to_str().unwrap(),
+            a.to_str().unwrap(),
+            "--input",
+            "force_lbf",
+            "--output",
+            "acceleration_g",
+            "--json",
+        ]);
+        assert_eq!(code, 2, "{v} {err}");
+        assert!(
+            err.contains("no signature can be compared") && err.contains("discrete lines"),
+            "{err}"
+        );
+    }
+}

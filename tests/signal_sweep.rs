@@ -155,6 +155,9 @@ fn sweep_cli_reports_fn_and_q_from_a_csv_log() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let r = &v["responses"][0];
     assert_eq!(r["name"], "accel_g");
+    // The reader's decisions, as `psd --json` records them.
+    assert_eq!(v["ingest"]["delimiter"], "comma");
+    assert_eq!(v["ingest"]["time_column"], "time_s");
     let f = r["resonance"]["frequency_hz"].as_f64().unwrap();
     let qq = r["resonance"]["q"].as_f64().unwrap();
     eprintln!("cli sweep: fn {f:.4} Hz, Q {qq:.3}");
@@ -162,4 +165,37 @@ fn sweep_cli_reports_fn_and_q_from_a_csv_log() {
     assert!((qq - q).abs() < 0.05 * q, "{qq}");
     assert!(dir.join("out/sweep.csv").exists() && dir.join("out/sweep.svg").exists());
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `sweep` on `log` with `--control control`: exit code and stderr.
+fn sweep_cli(log: &std::path::Path, control: &str) -> (i32, String) {
+    let (code, _, err) = crate::common::run_text(
+        &["sweep", log.to_str().unwrap(), "--control", control],
+        None,
+    );
+    (code, err)
+}
+
+#[test]
+fn a_log_without_a_sweep_is_refused_with_exit_2() {
+    // Three measured logs whose drive is not a swept sine (each SOURCE.md): a multi-tone sine
+    // dwell on the shaker beam, tracked on the load cell (random-like) and on the drive
+    // voltage (a dwell), and a hammer hit whose force channel only rings after the pulse.
+    let beam = crate::common::repo_path(satqual::catalogue::logs::SHAKER_BEAM);
+    let hit = crate::common::repo_path(satqual::catalogue::logs::IMPACT_DIR).join("impact_1.csv");
+    for (log, control, why) in [
+        (&beam, "force_lbf", "not a swept sine"),
+        (&beam, "drive_voltage_V", "a dwell, not a sweep"),
+        (&hit, "force", "not a sweep"),
+    ] {
+        let (code, err) = sweep_cli(log, control);
+        assert_eq!(code, 2, "{control}: {err}");
+        assert!(
+            err.contains("no sine sweep detected")
+                && err.contains(&format!("`{control}`"))
+                && err.contains(why)
+                && err.contains(&log.display().to_string()),
+            "{err}"
+        );
+    }
 }

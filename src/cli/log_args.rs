@@ -60,40 +60,59 @@ impl DialectArgs {
     }
 }
 
-/// Welch averaging: segment length, overlap, window and detrending.
+/// Welch averaging: segment length, overlap, window and detrending. A flag left out takes
+/// its default; `frf` and `signature` replace all four with the impact options when none is
+/// given and the input is an impact.
 #[derive(clap::Args, Debug, Clone)]
 pub struct WelchArgs {
-    /// Welch segment length, samples.
-    #[arg(long, default_value_t = 8192)]
-    pub nperseg: usize,
-    /// Segment overlap as a fraction in [0, 1).
-    #[arg(long, default_value_t = 0.5)]
-    pub overlap: f64,
-    /// hann, hamming, flattop or boxcar.
-    #[arg(long, default_value = "hann")]
-    pub window: String,
-    /// none, constant or linear.
-    #[arg(long, default_value = "constant")]
-    pub detrend: String,
+    /// Welch segment length, samples, at least 16 [default: 8192].
+    #[arg(long)]
+    pub nperseg: Option<usize>,
+    /// Segment overlap as a fraction in [0, 1) [default: 0.5].
+    #[arg(long)]
+    pub overlap: Option<f64>,
+    /// hann, hamming, flattop or boxcar [default: hann].
+    #[arg(long)]
+    pub window: Option<String>,
+    /// none, constant or linear [default: constant].
+    #[arg(long)]
+    pub detrend: Option<String>,
 }
 
 impl WelchArgs {
     /// The checked Welch options.
     pub fn options(&self) -> Result<WelchOptions, Error> {
+        let d = WelchOptions::default();
         let o = WelchOptions {
-            nperseg: self.nperseg,
-            overlap: self.overlap,
-            window: Window::parse(&self.window)?,
-            detrend: Detrend::parse(&self.detrend)?,
+            nperseg: self.nperseg.unwrap_or(d.nperseg),
+            overlap: self.overlap.unwrap_or(d.overlap),
+            window: self.window.as_deref().map_or(Ok(d.window), Window::parse)?,
+            detrend: self
+                .detrend
+                .as_deref()
+                .map_or(Ok(d.detrend), Detrend::parse)?,
         };
         o.validate()?;
         Ok(o)
+    }
+
+    /// No Welch flag was given: the options are the defaults, not the user's choice.
+    pub fn all_default(&self) -> bool {
+        self.nperseg.is_none()
+            && self.overlap.is_none()
+            && self.window.is_none()
+            && self.detrend.is_none()
     }
 }
 
 /// Prints the reader's dialect decisions once, on stderr (stdout may hold the JSON).
 pub fn print_ingest_notes(info: Option<&LogInfo>) {
-    for n in info.map(|i| i.ingest.notes.as_slice()).unwrap_or_default() {
+    print_notes(info.map(|i| i.ingest.notes.as_slice()).unwrap_or_default());
+}
+
+/// Prints decisions and warnings, one `note:` line each, on stderr.
+pub fn print_notes(notes: &[String]) {
+    for n in notes {
         eprintln!("note: {n}");
     }
 }

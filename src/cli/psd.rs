@@ -12,6 +12,7 @@ use satqual::pipeline::workflows::{
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
 
+use satqual::signal::welch::resolution_note;
 use satqual::signal::{PsdSource, ToleranceSpec, WelchOptions, read_profile};
 use serde_json::json;
 use std::path::PathBuf;
@@ -70,6 +71,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         }),
         None => None,
     };
+    let profile_band = tolerance.as_ref().map(|t| profile_span(&t.profile));
     let run = workflows::psd::run(&PsdRequest {
         log: &args.log,
         ingest,
@@ -78,6 +80,10 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         tolerance,
     })?;
     print_ingest_notes(run.psd.info.as_ref());
+    let warnings = resolution_warnings(&run, &wopts, profile_band);
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
     let mut human = summary(&args, &run, &wopts);
     let pass = run.tolerance.as_ref().is_none_or(|(_, t)| t.pass);
     if let Some(dir) = &args.out {
@@ -88,12 +94,40 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ));
     }
     p.human(&human.join("\n"));
-    p.json(&document(&args, &run, &wopts, pass))?;
+    let mut doc = document(&args, &run, &wopts, pass);
+    doc["warnings"] = json!(warnings);
+    p.json(&doc)?;
     Ok(if pass {
         Outcome::Pass
     } else {
         Outcome::GateFailed
     })
+}
+
+/// A warning when the segment is too short to resolve the band asked: the reference
+/// profile's span when one is given, else DC to Nyquist.
+fn resolution_warnings(
+    run: &PsdRun,
+    wopts: &WelchOptions,
+    profile_band: Option<(f64, f64)>,
+) -> Vec<String> {
+    if run.psd.source == PsdSource::UffPsd {
+        return Vec::new();
+    }
+    let fs = run.psd.fs_hz;
+    let (lo, hi) = profile_band.unwrap_or((0.0, fs / 2.0));
+    resolution_note(fs, wopts.nperseg, lo, hi.min(fs / 2.0))
+        .into_iter()
+        .collect()
+}
+
+/// Lowest and highest frequency of a profile's breakpoints.
+fn profile_span(profile: &[(f64, f64)]) -> (f64, f64) {
+    profile
+        .iter()
+        .fold((f64::INFINITY, 0.0), |(lo, hi), &(f, _)| {
+            (lo.min(f), hi.max(f))
+        })
 }
 
 /// The human summary: the log, one line per channel, resampling and tolerance.

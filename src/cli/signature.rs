@@ -32,10 +32,13 @@ pub struct Args {
     pub modes: usize,
     #[arg(long, default_value_t = 6.0)]
     pub min_prominence_db: f64,
+    /// Band searched for resonances, Hz [default: the band the before-input excites].
     #[arg(long)]
     pub fmin: Option<f64>,
     #[arg(long)]
     pub fmax: Option<f64>,
+    #[command(flatten)]
+    pub screen: super::frf::ScreenArgs,
     #[arg(long)]
     pub json: bool,
     #[command(flatten)]
@@ -50,8 +53,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let peaks = PeakOptions {
         min_prominence_db: args.min_prominence_db,
         max_peaks: args.modes,
-        f_min_hz: args.fmin.unwrap_or(0.0),
-        f_max_hz: args.fmax.unwrap_or(f64::INFINITY),
+        f_min_hz: 0.0,
+        f_max_hz: f64::INFINITY,
         db_per_decade: 20.0,
     };
     let ingest = args.reading.ingest(None)?;
@@ -62,6 +65,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         output: &args.output,
         ingest,
         welch: wopts,
+        welch_is_default: args.welch.all_default(),
+        screen: Some(args.screen.screen(args.fmin, args.fmax)?),
         peaks,
         criteria: SignatureCriteria {
             max_shift_pct: args.max_shift_pct,
@@ -70,6 +75,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         },
     })?;
     let (before, after, rep) = (&run.before, &run.after, &run.report);
+    super::frf::print_run_notes(before);
+    super::frf::print_run_notes(after);
     let mut human = vec![format!(
         "signature {} -> {}: {} mode(s), {}",
         args.before.display(),
@@ -112,6 +119,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "failures": rep.failures,
         "before_peaks": before.resonances.iter().map(super::frf::peak_json).collect::<Vec<_>>(),
         "after_peaks": after.resonances.iter().map(super::frf::peak_json).collect::<Vec<_>>(),
+        "before_run": super::frf::run_json(before),
+        "after_run": super::frf::run_json(after),
         "pass": rep.pass,
     }))?;
     Ok(if rep.pass {

@@ -59,6 +59,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         },
     })?;
     progress.finish();
+    super::log_args::print_notes(&run.ingest.notes);
     let (track, names) = (&run.track, &run.responses);
     let mut human = vec![format!(
         "{}: sweep tracked on `{}`, {} blocks, {:.2}–{:.2} Hz",
@@ -104,6 +105,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "frequency_min_hz": track.frequency_hz.first(),
         "frequency_max_hz": track.frequency_hz.last(),
         "responses": out,
+        "ingest": run.ingest,
     }))?;
     Ok(Outcome::Pass)
 }

@@ -150,8 +150,6 @@ pub fn resonances(
         .collect()
 }
 
-/// FRF between channels `input` and `output` averaged over the records of several CSV logs
-/// (each log read with `ingest`; all must share one sampling rate within 1e-6).
 /// Above this magnitude a sample's square, summed over a segment, overflows the spectra.
 const MAX_SAMPLE: f64 = 1e100;
 
@@ -180,13 +178,21 @@ fn check_live(log: &super::ingest::Log, name: &str, k: usize) -> Result<(), Sign
     Ok(())
 }
 
-pub fn frf_of_files(
+/// Reads the `input` and `output` channels of every log (each read with `ingest`; all must
+/// share one sampling rate within 1e-6), refusing one channel named as both, a dead channel
+/// and a sample too large for the spectra.
+pub fn read_frf_logs(
     paths: &[std::path::PathBuf],
     input: &str,
     output: &str,
     ingest: &super::ingest::IngestOptions,
-    opts: &WelchOptions,
-) -> Result<Frf, SignalError> {
+) -> Result<Vec<super::ingest::Log>, SignalError> {
+    if input == output {
+        return Err(SignalError::Channel {
+            channel: input.to_string(),
+            message: "named as both --input and --output: an FRF of a channel on itself is 1 on every line; name the response channel as --output".into(),
+        });
+    }
     let mut ing = ingest.clone();
     ing.channels = Some(vec![input.to_string(), output.to_string()]);
     let logs: Vec<super::ingest::Log> = paths
@@ -212,16 +218,43 @@ pub fn frf_of_files(
         check_live(l, input, 0)?;
         check_live(l, output, 1)?;
     }
+    Ok(logs)
+}
+
+/// The FRF of logs read by [`read_frf_logs`] (input in `data[0]`, output in `data[1]`);
+/// `input` names the channel in a too-long-segment error.
+pub fn frf_of_logs(
+    logs: &[super::ingest::Log],
+    input: &str,
+    opts: &WelchOptions,
+) -> Result<Frf, SignalError> {
     let records: Vec<(&[f64], &[f64])> = logs
         .iter()
         .map(|l| (l.data[0].as_slice(), l.data[1].as_slice()))
         .collect();
+    let fs = logs.first().map_or(0.0, |l| l.info.fs_hz);
     frf(&records, fs, opts).map_err(|e| match e {
         SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
             nperseg,
             len,
-            channel: format!("{input} of {}", paths[0].display()),
+            channel: format!(
+                "{input} of {}",
+                logs.first()
+                    .map_or(String::new(), |l| l.info.file.display().to_string())
+            ),
         },
         o => o,
     })
+}
+
+/// FRF between channels `input` and `output` averaged over the records of several CSV logs.
+pub fn frf_of_files(
+    paths: &[std::path::PathBuf],
+    input: &str,
+    output: &str,
+    ingest: &super::ingest::IngestOptions,
+    opts: &WelchOptions,
+) -> Result<Frf, SignalError> {
+    let logs = read_frf_logs(paths, input, output, ingest)?;
+    frf_of_logs(&logs, input, opts)
 }

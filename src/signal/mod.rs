@@ -18,9 +18,11 @@
 pub mod bands;
 pub mod ema;
 pub mod frf;
+pub mod impact;
 pub mod ingest;
 pub mod logpsd;
 pub mod peaks;
+pub mod screen;
 pub mod signature;
 pub mod srs;
 pub mod sweep;
@@ -37,7 +39,7 @@ pub use logpsd::{ChannelPsd, LogPsd, PsdSource, psd_of_file};
 pub use peaks::{Peak, PeakOptions, find_peaks};
 pub use signature::{ModeComparison, SignatureCriteria, SignatureReport, compare_signatures};
 pub use srs::{ChannelSrs, LogSrs, Offset, SrsOptions, SrsPoint, srs_of_file};
-pub use sweep::{SweepOptions, SweepTrack, sweep_resonance, track_sweep};
+pub use sweep::{SweepOptions, SweepTrack, not_a_sweep, sweep_resonance, track_sweep};
 pub use uff::{UffRecord, read_uff58};
 pub use welch::{
     CrossPsd, Detrend, Psd, WelchOptions, WelchResult, WelchStream, Window, csd, welch, welch_multi,

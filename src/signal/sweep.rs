@@ -48,6 +48,70 @@ pub struct SweepTrack {
     /// `sine_fraction[r][k]`: share of the response's block power at the drive frequency
     /// (1 = a clean sine; the sweep's counterpart of coherence).
     pub sine_fraction: Vec<Vec<f64>>,
+    /// Share of the drive's own block power at its tracked frequency: near 1 for a swept
+    /// sine, low for random, multi-tone or impact drives.
+    pub drive_sine_fraction: Vec<f64>,
+}
+
+/// A block is a sine when this share of the drive's power is at its tracked frequency.
+pub const MIN_DRIVE_SINE_FRACTION: f64 = 0.5;
+/// A block must hold this many cycles of the drive for its frequency to be measured.
+pub const MIN_CYCLES_PER_BLOCK: f64 = 2.0;
+/// Share of the blocks that must be sines for the log to be a sweep.
+pub const MIN_SINE_BLOCK_SHARE: f64 = 0.5;
+/// Highest over lowest sine frequency of a sweep; below it the drive is a dwell.
+pub const MIN_SWEEP_RATIO: f64 = 1.05;
+/// Share of the steps between consecutive sine blocks (in time) that must move the frequency
+/// the same way: a sweep runs one way, a ringing or noisy drive wanders.
+pub const MIN_MONOTONIC_SHARE: f64 = 0.9;
+
+/// Share of the time steps between `(time, frequency)` blocks that go the majority's way.
+fn monotonic_share(mut blocks: Vec<(f64, f64)>) -> f64 {
+    blocks.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let steps = blocks.len().saturating_sub(1);
+    let up = blocks.windows(2).filter(|w| w[1].1 > w[0].1).count();
+    let down = blocks.windows(2).filter(|w| w[1].1 < w[0].1).count();
+    up.max(down) as f64 / steps.max(1) as f64
+}
+
+/// Why `track` is not a sine sweep, or `None` when it is one: most blocks must hold a clean
+/// sine of at least two cycles, whose frequency moves one way in time and spans a ratio of
+/// 1.05 or more.
+pub fn not_a_sweep(track: &SweepTrack, block_s: f64) -> Option<String> {
+    let sine_blocks: Vec<(f64, f64)> = (0..track.frequency_hz.len())
+        .filter(|&k| {
+            track.frequency_hz[k] * block_s >= MIN_CYCLES_PER_BLOCK
+                && track.drive_sine_fraction[k] >= MIN_DRIVE_SINE_FRACTION
+        })
+        .map(|k| (track.time_s[k], track.frequency_hz[k]))
+        .collect();
+    let sines: Vec<f64> = sine_blocks.iter().map(|b| b.1).collect();
+    let blocks = track.frequency_hz.len();
+    let share = sines.len() as f64 / blocks.max(1) as f64;
+    let (lo, hi) = sines
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, h), &f| (l.min(f), h.max(f)));
+    if blocks == 0 || share < MIN_SINE_BLOCK_SHARE {
+        return Some(format!(
+            "the drive is a sine of {MIN_CYCLES_PER_BLOCK}+ cycles in {:.0}% of {blocks} blocks (at least {:.0}% needed): it is not a swept sine",
+            100.0 * share,
+            100.0 * MIN_SINE_BLOCK_SHARE
+        ));
+    }
+    if hi / lo < MIN_SWEEP_RATIO {
+        return Some(format!(
+            "the drive's frequency stays within {lo:.3}–{hi:.3} Hz: a dwell, not a sweep (a sweep spans a ratio of {MIN_SWEEP_RATIO} or more)"
+        ));
+    }
+    let one_way = monotonic_share(sine_blocks);
+    if one_way < MIN_MONOTONIC_SHARE {
+        return Some(format!(
+            "the drive's frequency wanders over {lo:.3}–{hi:.3} Hz ({:.0}% of the steps between blocks go one way, a sweep needs {:.0}%): a ringing or noisy drive, not a sweep",
+            100.0 * one_way,
+            100.0 * MIN_MONOTONIC_SHARE
+        ));
+    }
+    None
 }
 
 fn analytic(x: &[f64]) -> Vec<Complex64> {
@@ -67,6 +131,16 @@ fn analytic(x: &[f64]) -> Vec<Complex64> {
     }
     planner.plan_fft_inverse(n).process(&mut buf);
     buf
+}
+
+/// Share of a block's weighted power held by its demodulated sine `z`: the sine's weighted
+/// mean square is 2|z|²/Σw, compared with the block's Σw·x².
+fn sine_share(z: Complex64, pow: f64, wsum: f64) -> f64 {
+    if pow > 0.0 {
+        (2.0 * z.norm_sqr() / wsum / pow).min(1.0)
+    } else {
+        0.0
+    }
 }
 
 /// Tracks `responses` against the sweep in `drive`, sampled at `fs`.
@@ -122,8 +196,8 @@ pub fn track_sweep(
         .map(|j| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * (j as f64 + 0.5) / block as f64).cos())
         .collect();
     let wsum: f64 = w.iter().sum();
-    // (time, frequency, drive amplitude, H per response, sine fraction per response)
-    type Row = (f64, f64, f64, Vec<Complex64>, Vec<f64>);
+    // (time, frequency, drive amplitude, H per response, sine fraction per response, drive's)
+    type Row = (f64, f64, f64, Vec<Complex64>, Vec<f64>, f64);
     let mut rows: Vec<Row> = Vec::new();
     let mut start = block;
     while start + 2 * block <= drive.len() {
@@ -147,22 +221,17 @@ pub fn track_sweep(
             }
             (acc, pow)
         };
-        let (xd, _) = demod(drive);
+        let (xd, drive_pow) = demod(drive);
         let amp = 2.0 * xd.norm() / wsum;
+        let drive_sine = sine_share(xd, drive_pow, wsum);
         let mut hs = Vec::with_capacity(responses.len());
         let mut fr = Vec::with_capacity(responses.len());
         for r in responses {
             let (yd, pow) = demod(r);
             hs.push(yd / xd);
-            // Weighted mean square of the sine part is 2|Y|²/Σw² ... compared on the same weights.
-            let sine_pow = 2.0 * yd.norm_sqr() / wsum;
-            fr.push(if pow > 0.0 {
-                (sine_pow / pow).min(1.0)
-            } else {
-                0.0
-            });
+            fr.push(sine_share(yd, pow, wsum));
         }
-        rows.push(((start as f64 + tm) / fs, freq, amp, hs, fr));
+        rows.push(((start as f64 + tm) / fs, freq, amp, hs, fr, drive_sine));
         start = start.saturating_add(hop);
     }
     let max_amp = rows.iter().fold(0.0f64, |m, r| m.max(r.2));
@@ -175,8 +244,10 @@ pub fn track_sweep(
         drive_amplitude: Vec::new(),
         h: vec![Vec::new(); nr],
         sine_fraction: vec![Vec::new(); nr],
+        drive_sine_fraction: Vec::new(),
     };
-    for (time, f, a, hs, fr) in rows {
+    for (time, f, a, hs, fr, ds) in rows {
+        t.drive_sine_fraction.push(ds);
         t.time_s.push(time);
         t.frequency_hz.push(f);
         t.drive_amplitude.push(a);

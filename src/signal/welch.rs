@@ -169,17 +169,42 @@ impl Default for WelchOptions {
     }
 }
 
+/// Shortest Welch segment accepted: 16 samples give 9 lines (DC to Nyquist). Below it a
+/// tapered window is mostly its own zero ends (a 1-sample Hann window is 0, so every PSD
+/// would be 0) and the spectrum describes the window rather than the signal.
+pub const MIN_NPERSEG: usize = 16;
+
+/// Fewest lines a band must hold for its peaks and RMS to mean something.
+pub const MIN_LINES_IN_BAND: usize = 16;
+
+/// A note when `df` leaves fewer than [`MIN_LINES_IN_BAND`] lines in `lo..=hi` Hz, naming the
+/// segment length that would give that many.
+pub fn resolution_note(fs: f64, nperseg: usize, lo: f64, hi: f64) -> Option<String> {
+    let df = fs / nperseg as f64;
+    let lines = ((hi - lo) / df).floor() + 1.0;
+    if !lines.is_finite() || lines >= MIN_LINES_IN_BAND as f64 || hi <= lo {
+        return None;
+    }
+    let needed = (MIN_LINES_IN_BAND as f64 * fs / (hi - lo)).ceil();
+    Some(format!(
+        "nperseg {nperseg} gives {df:.6} Hz lines: only {lines} line(s) in the band {lo:.3}–{hi:.3} Hz; \
+         pass --nperseg {needed} or more to resolve it"
+    ))
+}
+
 impl WelchOptions {
     pub fn noverlap(&self) -> usize {
         (self.overlap * self.nperseg as f64).floor() as usize
     }
 
     pub fn validate(&self) -> Result<(), SignalError> {
-        if self.nperseg == 0 {
+        if self.nperseg < MIN_NPERSEG {
             return Err(SignalError::BadParameter {
                 name: "nperseg",
-                value: "0".into(),
-                reason: "must be at least 1".into(),
+                value: self.nperseg.to_string(),
+                reason: format!(
+                    "must be at least {MIN_NPERSEG} samples (9 lines); a shorter segment measures its window, not the signal"
+                ),
             });
         }
         if !(self.overlap.is_finite() && (0.0..1.0).contains(&self.overlap)) {

@@ -1,7 +1,7 @@
 //! The signature workflow: the resonances of a signature taken before a test and of one taken
 //! after, matched mode by mode.
 
-use super::frf::{self, FrfRequest, FrfRun};
+use super::frf::{self, FrfRequest, FrfRun, Screen};
 use crate::error::Error;
 use crate::signal::{
     IngestOptions, PeakOptions, Resonance, SignatureCriteria, SignatureReport, WelchOptions,
@@ -26,6 +26,11 @@ pub struct SignatureRequest<'a> {
     pub output: &'a str,
     pub ingest: IngestOptions,
     pub welch: WelchOptions,
+    /// `welch` holds the defaults: an impact input replaces them (see [`FrfRequest`]).
+    pub welch_is_default: bool,
+    /// Band and coherence screen of the before-signature; the after-signature is searched
+    /// over the band searched before.
+    pub screen: Option<Screen>,
     /// Peak search of the before-signature; `max_peaks` is the number of modes watched.
     pub peaks: PeakOptions,
     pub criteria: SignatureCriteria,
@@ -38,29 +43,52 @@ pub struct SignatureRun {
 }
 
 pub fn run(req: &SignatureRequest) -> Result<SignatureRun, Error> {
-    let frf_of = |log: &PathBuf, peaks: PeakOptions| {
+    let frf_of = |log: &PathBuf, peaks: PeakOptions, screen: Option<Screen>| {
         frf::run(&FrfRequest {
             logs: std::slice::from_ref(log),
             input: req.input,
             output: req.output,
             ingest: req.ingest.clone(),
             welch: req.welch.clone(),
+            welch_is_default: req.welch_is_default,
             peaks,
             from_first_line: false,
+            screen,
         })
     };
-    let before = frf_of(req.before, req.peaks.clone())?;
+    let before = frf_of(req.before, req.peaks.clone(), req.screen.clone())?;
+    let after_screen = match (&req.screen, &before.screen) {
+        (Some(s), Some(r)) => match r.searched_hz {
+            Some((lo, hi)) => Some(Screen {
+                fmin: Some(lo),
+                fmax: Some(hi),
+                ..s.clone()
+            }),
+            None => return Err(nothing_searched(req.before, &before)),
+        },
+        (s, _) => s.clone(),
+    };
     let after_opts = PeakOptions {
         max_peaks: after_peaks(req.peaks.max_peaks),
         ..req.peaks.clone()
     };
-    let after = frf_of(req.after, after_opts)?;
+    let after = frf_of(req.after, after_opts, after_screen)?;
     let report = compare(&before.resonances, &after.resonances, &req.criteria);
     Ok(SignatureRun {
         before,
         after,
         report,
     })
+}
+
+/// The before-signature's input excites no band (tones, or nothing): neither a pass nor a
+/// fail can be said, so the comparison is refused with the reason.
+fn nothing_searched(before: &std::path::Path, run: &FrfRun) -> Error {
+    Error::Other(format!(
+        "{}: no signature can be compared: {}",
+        before.display(),
+        run.notes.last().map_or("no band searched", String::as_str)
+    ))
 }
 
 /// Matches the modes of `before` in `after` and judges each against the criteria.

@@ -3,7 +3,8 @@
 
 use crate::error::Error;
 use crate::signal::{
-    IngestOptions, Resonance, SweepOptions, SweepTrack, read_csv, sweep_resonance, track_sweep,
+    IngestOptions, Resonance, SweepOptions, SweepTrack, not_a_sweep, read_csv, sweep_resonance,
+    track_sweep,
 };
 use std::path::Path;
 
@@ -24,6 +25,8 @@ pub struct SweepRun {
     pub track: SweepTrack,
     /// Per response, its dominant resonance inside the tracked band.
     pub resonances: Vec<Option<Resonance>>,
+    /// The reader's decisions about the log.
+    pub ingest: crate::signal::ingest::IngestRecord,
 }
 
 pub fn run(req: &SweepRequest) -> Result<SweepRun, Error> {
@@ -51,6 +54,13 @@ pub fn run(req: &SweepRequest) -> Result<SweepRun, Error> {
         .map(|n| log.channel(n))
         .collect::<Result<_, _>>()?;
     let track = track_sweep(drive, &resp, log.info.fs_hz, &req.options)?;
+    if let Some(why) = not_a_sweep(&track, req.options.block_s) {
+        return Err(Error::Other(format!(
+            "{}: no sine sweep detected on the control channel `{}`: {why}; `sweep` tracks a swept-sine drive, use `frf` for random, multi-tone or impact inputs",
+            req.log.display(),
+            req.control
+        )));
+    }
     let resonances = (0..names.len())
         .map(|r| sweep_resonance(&track, r))
         .collect();
@@ -59,5 +69,6 @@ pub fn run(req: &SweepRequest) -> Result<SweepRun, Error> {
         responses: names,
         track,
         resonances,
+        ingest: log.info.ingest,
     })
 }

@@ -155,12 +155,14 @@ fn frf_log(log: &TestLogPlan) -> Result<TestLogResult, Error> {
         output,
         ingest: log.ingest.clone(),
         welch: log.welch.clone(),
+        welch_is_default: false,
         peaks: PeakOptions {
             max_peaks: log.max_peaks,
             db_per_decade: 20.0,
             ..Default::default()
         },
         from_first_line: true,
+        screen: None,
     })?;
     let f = run.frf.frequencies();
     let h1 = run.frf.h1();
