@@ -302,3 +302,107 @@ fn mat_files_matlab_wrote_are_read_or_refused_by_name() {
         }
     }
 }
+
+/// A 2 g, 100 Hz sine at 1 kHz for 4 s, each row's time an ISO 8601 date-time written by
+/// `stamp(k)` for sample k, the value by `value(v)`, the fields joined by `sep`.
+fn iso_log(
+    name: &str,
+    header: &str,
+    sep: &str,
+    stamp: impl Fn(usize) -> String,
+    value: impl Fn(f64) -> String,
+) -> std::path::PathBuf {
+    let mut s = format!("{header}\n");
+    for k in 0..4000 {
+        let v = 2.0 * (2.0 * std::f64::consts::PI * 100.0 * k as f64 / 1000.0).sin();
+        s.push_str(&format!("{}{sep}{}\n", stamp(k), value(v)));
+    }
+    let p = crate::common::temp_dir(&format!("formats-{name}")).join(name);
+    std::fs::write(&p, s).unwrap();
+    p
+}
+
+/// Across 2024-02-29 23:59:58 to 2024-03-01 00:00:02 (a leap day and a month end).
+fn leap_stamp(k: usize, sep: char, frac: char, zone: &str) -> String {
+    let (s, ms) = (k / 1000, k % 1000);
+    if s < 2 {
+        format!("2024-02-29{sep}23:59:{:02}{frac}{ms:03}{zone}", 58 + s)
+    } else {
+        format!("2024-03-01{sep}00:00:{:02}{frac}{ms:03}{zone}", s - 2)
+    }
+}
+
+#[test]
+fn iso8601_time_columns_give_the_rate() {
+    let p = iso_log(
+        "iso.csv",
+        "timestamp,accel_g",
+        ",",
+        |k| leap_stamp(k, 'T', '.', ""),
+        |v| format!("{v:.12}"),
+    );
+    let log = read_log(&p, &IngestOptions::default()).unwrap();
+    assert_eq!(log.info.ingest.time_unit.map(|u| u.name()), Some("iso8601"));
+    // 1 ms steps across the day and month change: 1000 Hz to rounding of the fractions.
+    assert!((log.info.fs_hz - 1000.0).abs() < 1e-9, "{}", log.info.fs_hz);
+    // 400 whole periods of 2 sin: RMS 2/√2 to the 12 written decimals.
+    assert!((rms(&log.data[0]) - 2f64.sqrt()).abs() < 1e-11);
+    // Semicolons, decimal commas, a blank between date and time, a zone, a name that is not
+    // a time word: the cells say it is time.
+    let p = iso_log(
+        "iso-semi.csv",
+        "Zeit;Beschleunigung_g",
+        ";",
+        |k| leap_stamp(k, ' ', ',', "+01:00"),
+        |v| format!("{v:.12}").replace('.', ","),
+    );
+    let log = read_log(&p, &IngestOptions::default()).unwrap();
+    assert_eq!(log.info.time_column.as_deref(), Some("Zeit"));
+    assert_eq!(log.info.ingest.decimal, ",");
+    assert!((log.info.fs_hz - 1000.0).abs() < 1e-9);
+    assert!((rms(&log.data[0]) - 2f64.sqrt()).abs() < 1e-11);
+    // --fs that disagrees with the date-times is refused as for numeric times.
+    let opts = IngestOptions {
+        fs: Some(1010.0),
+        ..IngestOptions::default()
+    };
+    let e = read_log(&p, &opts).unwrap_err().to_string();
+    assert!(e.contains("1010") && e.contains("--fs-override"), "{e}");
+}
+
+#[test]
+fn iso8601_bad_or_irregular_rows_are_located() {
+    let p = iso_log(
+        "iso-bad.csv",
+        "time,accel_g",
+        ",",
+        |k| {
+            if k == 1500 {
+                "2024-02-30T00:00:00".into()
+            } else {
+                leap_stamp(k, 'T', '.', "Z")
+            }
+        },
+        |v| format!("{v:.6}"),
+    );
+    let e = read_log(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    // Sample 1500 is line 1502 (header on line 1); 30 February is no date.
+    assert!(
+        e.contains("line 1502") && e.contains("`time`") && e.contains("2024-02-30"),
+        "{e}"
+    );
+    let p = iso_log(
+        "iso-gap.csv",
+        "time,accel_g",
+        ",",
+        |k| leap_stamp(if k >= 2500 { k + 7 } else { k }, 'T', '.', "Z"),
+        |v| format!("{v:.6}"),
+    );
+    let e = read_log(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    // An 8 ms step after sample 2499: line 2502.
+    assert!(e.contains("line 2502") && e.contains("0.008"), "{e}");
+}
