@@ -85,7 +85,7 @@ pub enum ResponseError {
 pub enum SignalError {
     #[error("{}: the file is empty", file.display())]
     EmptyFile { file: PathBuf },
-    #[error("{}: looks like a binary file (byte 0x{byte:02x} at offset {offset}); expected a text CSV or ASCII UFF58", file.display())]
+    #[error("{}: looks like a binary file (byte 0x{byte:02x} at offset {offset}); expected a text log (CSV, LabVIEW .lvm), UFF58/58b or a MATLAB v5 .mat file", file.display())]
     BinaryFile {
         file: PathBuf,
         offset: usize,
@@ -143,6 +143,13 @@ pub enum SignalError {
     NoSamplingRate { file: PathBuf },
     #[error("{}: line {line}: {message}", file.display())]
     Uff {
+        file: PathBuf,
+        line: u64,
+        message: String,
+    },
+    /// A located fact in a log of another format (LabVIEW .lvm, MATLAB .mat).
+    #[error("{}: line {line}: {message}", file.display())]
+    AtLine {
         file: PathBuf,
         line: u64,
         message: String,

@@ -49,6 +49,7 @@ mod damping;
 mod ema;
 mod signal_bands;
 mod signal_dialects;
+mod signal_formats;
 mod signal_frf;
 mod signal_ingest;
 mod signal_proptest;

@@ -197,7 +197,7 @@ pub fn read_frf_logs(
     ing.channels = Some(vec![input.to_string(), output.to_string()]);
     let logs: Vec<super::ingest::Log> = paths
         .iter()
-        .map(|p| super::ingest::read_csv(p, &ing))
+        .map(|p| super::formats::read_log(p, &ing))
         .collect::<Result<_, _>>()?;
     let fs = logs
         .first()

@@ -4,8 +4,10 @@
 //! spectra already computed by a controller (function type 9, PSD), taken as they are.
 
 use super::bands::rms_of;
+use super::formats::{LogFormat, detect, read_log};
+use super::ingest::Log;
 use super::ingest::{IngestOptions, LogInfo, stream_csv};
-use super::uff::{looks_like_uff, ordinate_unit, read_uff58};
+use super::uff::{ordinate_unit, read_uff58};
 use super::welch::{Psd, WelchOptions, WelchStream, welch};
 use crate::error::SignalError;
 use rayon::prelude::*;
@@ -20,6 +22,8 @@ pub enum PsdSource {
     CsvWelch,
     /// Welch on a UFF58 time history.
     UffWelch,
+    /// Welch on a log read whole (LabVIEW .lvm, MATLAB .mat).
+    Welch,
     /// A PSD record read from UFF58 as it is.
     UffPsd,
 }
@@ -77,8 +81,10 @@ pub fn psd_of_file(
     opts: &WelchOptions,
 ) -> Result<LogPsd, SignalError> {
     opts.validate()?;
-    if looks_like_uff(path) {
-        return psd_of_uff(path, ingest, opts);
+    match detect(path) {
+        LogFormat::Uff => return psd_of_uff(path, ingest, opts),
+        LogFormat::Lvm | LogFormat::Mat => return psd_of_log(read_log(path, ingest)?, opts),
+        LogFormat::Csv => {}
     }
     // Names are known only once the header is read: the stream is built on the first row.
     let mut stream: Option<WelchStream> = None;
@@ -138,6 +144,43 @@ pub fn psd_of_file(
         source: PsdSource::CsvWelch,
         fs_hz: info.fs_hz,
         info: Some(info),
+        channels,
+    })
+}
+
+/// Welch on every channel of a log read whole (LabVIEW .lvm, MATLAB .mat).
+fn psd_of_log(log: Log, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
+    let fs = log.info.fs_hz;
+    let channels: Vec<ChannelPsd> = log
+        .info
+        .channels
+        .par_iter()
+        .zip(&log.data)
+        .map(|(c, x)| {
+            let psd = welch(x, fs, opts).map_err(|e| match e {
+                SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
+                    nperseg,
+                    len,
+                    channel: format!("{} of {}", c.name, log.info.file.display()),
+                },
+                o => o,
+            })?;
+            let rms = (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
+            Ok(ChannelPsd {
+                name: c.name.clone(),
+                unit: c.unit.reported().to_string(),
+                grms: rms_of(&psd.frequencies(), &psd.values),
+                psd,
+                rms: Some(rms),
+                samples: x.len() as u64,
+            })
+        })
+        .collect::<Result<_, SignalError>>()?;
+    let channels = finite_channels(&log.info.file, channels)?;
+    Ok(LogPsd {
+        source: PsdSource::Welch,
+        fs_hz: fs,
+        info: Some(log.info),
         channels,
     })
 }

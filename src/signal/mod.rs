@@ -17,6 +17,7 @@
 
 pub mod bands;
 pub mod ema;
+pub mod formats;
 pub mod frf;
 pub mod impact;
 pub mod ingest;
@@ -33,6 +34,7 @@ pub use bands::{
     Band, ToleranceReport, ToleranceSpec, ToleranceStatus, band_rms, octave_bands, read_profile,
     rms_of, tolerance_bands,
 };
+pub use formats::{LogFormat, read_log};
 pub use frf::{Frf, Resonance, frf, frf_of_files, resonances};
 pub use ingest::{IngestOptions, Log, LogInfo, Unit, read_csv, stream_csv};
 pub use logpsd::{ChannelPsd, LogPsd, PsdSource, psd_of_file};

@@ -3,7 +3,7 @@
 
 use crate::error::Error;
 use crate::signal::{
-    IngestOptions, Resonance, SweepOptions, SweepTrack, not_a_sweep, read_csv, sweep_resonance,
+    IngestOptions, Resonance, SweepOptions, SweepTrack, not_a_sweep, read_log, sweep_resonance,
     track_sweep,
 };
 use std::path::Path;
@@ -30,7 +30,7 @@ pub struct SweepRun {
 }
 
 pub fn run(req: &SweepRequest) -> Result<SweepRun, Error> {
-    let log = read_csv(req.log, &req.ingest)?;
+    let log = read_log(req.log, &req.ingest)?;
     let drive = log.channel(req.control)?;
     let names: Vec<String> = match &req.responses {
         Some(v) => v.clone(),

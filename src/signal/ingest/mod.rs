@@ -14,6 +14,7 @@
 //! a block holding a quote goes through the `csv` crate. A quoted field with an embedded
 //! newline is not supported (numeric logs have none). Numbers are parsed by `fast-float2`.
 
+pub mod iso8601;
 pub mod sniff;
 mod time_unit;
 
@@ -334,6 +335,7 @@ pub fn stream_csv(
     for (k, &c) in selected.iter().enumerate() {
         slots[c] = Some((off + k, factors[k]));
     }
+    let iso_time = iso_origin(&fpath, &dialect, time_col, plan.time_unit)?;
     let layout = RowLayout {
         file: fpath.clone(),
         header: header.clone(),
@@ -342,6 +344,7 @@ pub fn stream_csv(
         delim: dialect.delimiter.byte(),
         whitespace: dialect.delimiter == Delimiter::Whitespace,
         decimal_comma: dialect.decimal_comma,
+        iso_time,
     };
     let opts = &IngestOptions {
         fs: opts.fs.or(plan.fs_from_metadata),
@@ -533,6 +536,13 @@ fn time_unit_of(
     if let Some(u) = opts.time_unit {
         return Ok(u);
     }
+    if d.first_row
+        .get(col)
+        .and_then(|c| iso8601::parse(c))
+        .is_some()
+    {
+        return Ok(TimeUnit::Iso8601);
+    }
     if let Some(u) = d
         .units
         .as_ref()
@@ -565,10 +575,12 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
     ignored.extend(d.metadata_columns.iter().map(|m| m.0));
     ignored.sort_unstable();
     check_names(file, &header, &ignored, opts.channels.is_some())?;
+    // A column of ISO 8601 date-times is time whatever its name (`Zeit`, `Date/Time`).
+    let iso = |i: usize| d.first_row.get(i).and_then(|c| iso8601::parse(c)).is_some();
     let mut time_col = header
         .iter()
         .enumerate()
-        .position(|(i, h)| !ignored.contains(&i) && is_time_column(h));
+        .position(|(i, h)| !ignored.contains(&i) && (is_time_column(h) || iso(i)));
     let mut notes = dialect_notes(file, d, &header);
     if opts.fs_override
         && let (Some(tc), Some(fs)) = (time_col, opts.fs)
@@ -800,6 +812,51 @@ struct RowLayout {
     delim: u8,
     whitespace: bool,
     decimal_comma: bool,
+    /// An ISO 8601 time column: its index and the first row's instant, from which its cells
+    /// are counted in seconds.
+    iso_time: Option<(usize, iso8601::Instant)>,
+}
+
+impl RowLayout {
+    /// The value of cell `c` of a row: a number, or seconds from the first row's date-time in
+    /// an ISO 8601 time column.
+    fn cell(&self, c: usize, bytes: &[u8]) -> Option<f64> {
+        match self.iso_time {
+            Some((tc, origin)) if tc == c => std::str::from_utf8(bytes)
+                .ok()
+                .and_then(iso8601::parse)
+                .map(|t| t.since(origin)),
+            _ => parse_cell(bytes, self.decimal_comma),
+        }
+    }
+}
+
+/// The origin of an ISO 8601 time column: the first data row's date-time.
+fn iso_origin(
+    file: &Path,
+    d: &Dialect,
+    time_col: Option<usize>,
+    unit: Option<TimeUnit>,
+) -> Result<Option<(usize, iso8601::Instant)>, SignalError> {
+    let (Some(tc), Some(TimeUnit::Iso8601)) = (time_col, unit) else {
+        return Ok(None);
+    };
+    let first = d.first_row.get(tc).map_or("", String::as_str);
+    match iso8601::parse(first) {
+        Some(t) => Ok(Some((tc, t))),
+        None => Err(SignalError::BadCell {
+            file: file.to_path_buf(),
+            line: d.data_line,
+            column: d
+                .header
+                .as_ref()
+                .and_then(|h| h.get(tc))
+                .cloned()
+                .unwrap_or_default(),
+            text: first.to_string(),
+            what: "not an ISO 8601 date-time (YYYY-MM-DDThh:mm:ss[.f][Z|+hh:mm])",
+        }),
+    }
 }
 
 /// Rows parsed from one chunk of the file: values (`width` per row), line numbers, and the
@@ -839,7 +896,7 @@ fn parse_line(
         if c < ncols
             && let Some((k, factor)) = l.slots[c]
         {
-            match parse_cell(&line[start..end], l.decimal_comma) {
+            match l.cell(c, &line[start..end]) {
                 Some(v) => out[base + k] = v * factor,
                 None => {
                     if bad.is_none() {
@@ -903,7 +960,7 @@ fn parse_spaced(
     out.resize(base + l.width, 0.0);
     for (c, cell) in fields.iter().enumerate() {
         if let Some((k, factor)) = l.slots[c] {
-            match parse_cell(cell, l.decimal_comma) {
+            match l.cell(c, cell) {
                 Some(v) => out[base + k] = v * factor,
                 None => {
                     out.truncate(base);
@@ -920,7 +977,7 @@ fn parse_spaced(
 /// itself. Returns the bytes consumed and whether a newline ended the line, or `None` (with
 /// `out` untouched) for anything else, which `parse_line` then judges and reports.
 fn fast_line(bytes: &[u8], l: &RowLayout, out: &mut Vec<f64>) -> Option<(usize, bool)> {
-    if l.whitespace || l.decimal_comma {
+    if l.whitespace || l.decimal_comma || l.iso_time.is_some() {
         return None;
     }
     let base = out.len();
@@ -1075,7 +1132,7 @@ fn parse_quoted(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
         p.vals.resize(base + l.width, 0.0);
         for (c, cell) in rec.iter().enumerate() {
             if let Some((k, factor)) = l.slots[c] {
-                match parse_cell(cell, l.decimal_comma) {
+                match l.cell(c, cell) {
                     Some(v) => p.vals[base + k] = v * factor,
                     None => {
                         p.vals.truncate(base);

@@ -1,4 +1,5 @@
-//! Time columns: which names are time, and the unit the name states (s, ms, µs, ns).
+//! Time columns: which names are time, and the unit the name states (s, ms, µs, ns) or the
+//! cells show (ISO 8601 date-times).
 
 use crate::error::SignalError;
 
@@ -13,6 +14,9 @@ pub enum TimeUnit {
     Us,
     #[serde(rename = "ns")]
     Ns,
+    /// ISO 8601 date-times, read as seconds from the first row's.
+    #[serde(rename = "iso8601")]
+    Iso8601,
 }
 
 impl TimeUnit {
@@ -20,7 +24,7 @@ impl TimeUnit {
         Self::from_word(s).ok_or_else(|| SignalError::BadParameter {
             name: "time-unit",
             value: s.to_string(),
-            reason: "expected s, ms, us or ns".into(),
+            reason: "expected s, ms, us, ns or iso8601".into(),
         })
     }
 
@@ -30,6 +34,7 @@ impl TimeUnit {
             "ms" | "msec" | "millis" => Some(TimeUnit::Ms),
             "us" | "µs" | "μs" | "usec" | "micros" => Some(TimeUnit::Us),
             "ns" | "nsec" | "nanos" => Some(TimeUnit::Ns),
+            "iso8601" | "iso" => Some(TimeUnit::Iso8601),
             _ => None,
         }
     }
@@ -41,6 +46,7 @@ impl TimeUnit {
             TimeUnit::Ms => 1e-3,
             TimeUnit::Us => 1e-6,
             TimeUnit::Ns => 1e-9,
+            TimeUnit::Iso8601 => 1.0,
         }
     }
 
@@ -50,6 +56,7 @@ impl TimeUnit {
             TimeUnit::Ms => "ms",
             TimeUnit::Us => "us",
             TimeUnit::Ns => "ns",
+            TimeUnit::Iso8601 => "iso8601",
         }
     }
 }

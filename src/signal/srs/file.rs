@@ -1,10 +1,11 @@
-//! A log file to shock response spectra: reads the selected channels (CSV through
-//! [`crate::signal::ingest::read_csv`], or UFF58 time histories), removes each channel's offset,
+//! A log file to shock response spectra: reads the selected channels (CSV, LabVIEW
+//! .lvm or MATLAB .mat through [`crate::signal::formats::read_log`], or UFF58 time histories), removes each channel's offset,
 //! finds its peak and computes its spectrum. The `srs` command's analysis.
 
 use super::{Offset, SrsOptions, SrsPoint, natural_frequencies, peak, pre_shock_mean, srs};
 use crate::error::SignalError;
-use crate::signal::ingest::{IngestOptions, Unit, read_csv};
+use crate::signal::formats::read_log;
+use crate::signal::ingest::{IngestOptions, Unit};
 use crate::signal::uff::{looks_like_uff, read_uff58};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -106,7 +107,7 @@ fn read_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records), S
     if looks_like_uff(path) {
         return read_uff_records(path, ingest);
     }
-    let log = read_csv(path, ingest)?;
+    let log = read_log(path, ingest)?;
     let records = log
         .info
         .channels

@@ -1,0 +1,342 @@
+//! LabVIEW Measurement (`.lvm`) text files, as the LabVIEW "Write To Measurement File" express
+//! VI writes them: a file header block and a segment header block, each closed by
+//! `***End_of_Header***`, a line of column names, then the rows.
+//!
+//! Hand-written: no Rust crate reads LVM. The header fields say everything: `Separator` (Tab or
+//! Comma), `Decimal_Separator` (`.` when missing), `X_Columns` (`No`: an X column left empty;
+//! `One`: one X column; `Multi`: one X column before each channel), and per channel `Samples`,
+//! `Y_Unit_Label` and `Delta_X`. One segment per file is read; a second segment is refused.
+
+use super::table::{Rate, Series, Table};
+use crate::error::SignalError;
+use std::path::Path;
+
+const END_OF_HEADER: &str = "***End_of_Header***";
+
+/// Whether the bytes start like an LVM file.
+pub fn looks_like_lvm(head: &[u8]) -> bool {
+    head.strip_prefix(b"\xef\xbb\xbf")
+        .unwrap_or(head)
+        .starts_with(b"LabVIEW Measurement")
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum XColumns {
+    No,
+    One,
+    Multi,
+}
+
+struct Layout {
+    sep: char,
+    decimal_comma: bool,
+    x: XColumns,
+}
+
+fn err(path: &Path, line: usize, message: impl Into<String>) -> SignalError {
+    SignalError::AtLine {
+        file: path.to_path_buf(),
+        line: line as u64,
+        message: format!("LVM: {}", message.into()),
+    }
+}
+
+/// UTF-8, else Latin-1 (LabVIEW on Windows writes `°` as the byte 0xB0).
+fn decode(bytes: &[u8]) -> String {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => s.to_string(),
+        Err(_) => bytes.iter().map(|&b| b as char).collect(),
+    }
+}
+
+/// Reads an LVM file into named columns.
+pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
+    let text = decode(bytes);
+    let lines: Vec<&str> = text.lines().map(|l| l.trim_end_matches('\r')).collect();
+    let file_end = find_end(&lines, 0).ok_or_else(|| {
+        err(
+            path,
+            lines.len(),
+            format!("no `{END_OF_HEADER}` closes the file header"),
+        )
+    })?;
+    let layout = file_layout(path, &lines[..file_end])?;
+    let seg_end = find_end(&lines, file_end + 1).ok_or_else(|| {
+        err(
+            path,
+            lines.len(),
+            format!("no `{END_OF_HEADER}` closes the segment header"),
+        )
+    })?;
+    let fields =
+        |l: &str| -> Vec<String> { l.split(layout.sep).map(|f| f.trim().to_string()).collect() };
+    let segment: Vec<Vec<String>> = lines[file_end + 1..seg_end]
+        .iter()
+        .map(|l| fields(l))
+        .collect();
+    let names_line = seg_end + 1;
+    let names = lines.get(names_line).map(|l| fields(l)).ok_or_else(|| {
+        err(
+            path,
+            names_line + 1,
+            "no line of column names after the segment header",
+        )
+    })?;
+    let columns = channel_columns(&names, layout.x);
+    let per_channel = |key: &str| segment_field(&segment, key, layout.x);
+    let samples = per_channel("Samples");
+    let units = per_channel("Y_Unit_Label");
+    let delta = per_channel("Delta_X");
+    let rows = data_rows(path, &lines, names_line + 1, &layout, names.len())?;
+    let mut table = Table {
+        format: "lvm",
+        delimiter: if layout.sep == '\t' { "tab" } else { "comma" },
+        decimal: if layout.decimal_comma { "," } else { "." },
+        series: Vec::new(),
+        rate: Rate::Unknown,
+        ignored: Vec::new(),
+        notes: vec![format!(
+            "{}: LabVIEW .lvm, X columns {:?}, {} data rows from line {}",
+            path.display(),
+            layout.x,
+            rows.len(),
+            names_line + 2
+        )],
+    };
+    let mut dts = Vec::new();
+    for (k, &(col, ref name)) in columns.iter().enumerate() {
+        let declared_empty = samples.get(k).is_some_and(|s| s == "0");
+        let values: Vec<Option<f64>> = rows
+            .iter()
+            .map(|(_, r)| r.get(col).copied().flatten())
+            .collect();
+        if declared_empty || values.iter().all(Option::is_none) {
+            table.ignored.push(format!("`{name}` (empty throughout)"));
+            continue;
+        }
+        let values = full_column(path, &rows, &values, name)?;
+        if let Some(dt) = delta.get(k).and_then(|d| number(d, layout.decimal_comma)) {
+            dts.push((name.clone(), dt));
+        }
+        table.series.push(Series {
+            name: name.clone(),
+            unit_label: units.get(k).cloned().unwrap_or_default(),
+            values,
+        });
+    }
+    if names.last().is_some_and(|n| n == "Comment") {
+        table.ignored.push("`Comment` (text)".into());
+    }
+    table.rate = rate(path, &rows, &dts, &layout, seg_end)?;
+    Ok(table)
+}
+
+fn find_end(lines: &[&str], from: usize) -> Option<usize> {
+    (from..lines.len()).find(|&i| lines[i].trim().trim_matches(['\t', ',']) == END_OF_HEADER)
+}
+
+fn file_layout(path: &Path, header: &[&str]) -> Result<Layout, SignalError> {
+    // `key<TAB>value<TAB>` (or comma-separated): the value may itself be `,` or `.`.
+    let value = |key: &str| {
+        header.iter().find_map(|l| {
+            let cut = if l.contains('\t') { '\t' } else { ',' };
+            let (k, v) = l.split_once(cut)?;
+            let v = v.trim_end_matches('\t').trim();
+            let v = if cut == ',' {
+                v.strip_suffix(',').unwrap_or(v)
+            } else {
+                v
+            };
+            (k.trim() == key).then(|| v.to_string())
+        })
+    };
+    let sep = match value("Separator").as_deref() {
+        None | Some("Tab") => '\t',
+        Some("Comma") => ',',
+        Some(other) => {
+            return Err(err(
+                path,
+                1,
+                format!("Separator `{other}` (expected Tab or Comma)"),
+            ));
+        }
+    };
+    let decimal_comma = match value("Decimal_Separator").as_deref() {
+        None | Some(".") => false,
+        Some(",") => true,
+        Some(other) => {
+            return Err(err(
+                path,
+                1,
+                format!("Decimal_Separator `{other}` (expected . or ,)"),
+            ));
+        }
+    };
+    if decimal_comma && sep == ',' {
+        return Err(err(
+            path,
+            1,
+            "Separator Comma with Decimal_Separator `,` cannot be split",
+        ));
+    }
+    let x = match value("X_Columns").as_deref() {
+        Some("No") => XColumns::No,
+        None | Some("One") => XColumns::One,
+        Some("Multi") => XColumns::Multi,
+        Some(other) => {
+            return Err(err(
+                path,
+                1,
+                format!("X_Columns `{other}` (expected No, One or Multi)"),
+            ));
+        }
+    };
+    Ok(Layout {
+        sep,
+        decimal_comma,
+        x,
+    })
+}
+
+/// Data columns of the channels: every column but the X columns and a trailing `Comment`.
+fn channel_columns(names: &[String], x: XColumns) -> Vec<(usize, String)> {
+    names
+        .iter()
+        .enumerate()
+        .filter(|(i, n)| {
+            let is_x = match x {
+                XColumns::No | XColumns::One => *i == 0,
+                XColumns::Multi => i % 2 == 0,
+            };
+            let trailing_comment = n.as_str() == "Comment" && *i + 1 == names.len();
+            !(is_x || trailing_comment)
+        })
+        .map(|(i, n)| (i, n.clone()))
+        .collect()
+}
+
+/// The per-channel values of a segment header field (one cell per channel, two with
+/// `X_Columns Multi`, whose second cell is empty).
+fn segment_field(segment: &[Vec<String>], key: &str, x: XColumns) -> Vec<String> {
+    let Some(row) = segment.iter().find(|r| r.first().is_some_and(|k| k == key)) else {
+        return Vec::new();
+    };
+    let step = if x == XColumns::Multi { 2 } else { 1 };
+    row.iter().skip(1).step_by(step).cloned().collect()
+}
+
+fn number(cell: &str, decimal_comma: bool) -> Option<f64> {
+    let v: f64 = if decimal_comma {
+        cell.replace(',', ".").parse().ok()?
+    } else {
+        cell.parse().ok()?
+    };
+    v.is_finite().then_some(v)
+}
+
+type Row = (usize, Vec<Option<f64>>);
+
+/// The rows from `start` to the end: each cell a number or empty. A second segment header
+/// (`Channels`, `***End_of_Header***`) is refused.
+fn data_rows(
+    path: &Path,
+    lines: &[&str],
+    start: usize,
+    l: &Layout,
+    width: usize,
+) -> Result<Vec<Row>, SignalError> {
+    let mut rows = Vec::new();
+    for (i, line) in lines.iter().enumerate().skip(start) {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let cells: Vec<&str> = line.split(l.sep).map(str::trim).collect();
+        if cells[0] == "Channels" || cells[0] == END_OF_HEADER || cells[0] == "LabVIEW Measurement"
+        {
+            return Err(err(
+                path,
+                i + 1,
+                "a second segment starts here: only single-segment LVM files are read; save one segment per file",
+            ));
+        }
+        let mut row = Vec::with_capacity(width);
+        for (c, cell) in cells.iter().enumerate().take(width) {
+            if cell.is_empty() {
+                row.push(None);
+            } else if let Some(v) = number(cell, l.decimal_comma) {
+                row.push(Some(v));
+            } else if c + 1 == width && !cell.is_empty() {
+                // The trailing Comment column holds text.
+                row.push(None);
+            } else {
+                return Err(err(
+                    path,
+                    i + 1,
+                    format!("column {}: cannot parse number `{cell}`", c + 1),
+                ));
+            }
+        }
+        rows.push((i + 1, row));
+    }
+    if rows.is_empty() {
+        return Err(SignalError::HeaderOnly {
+            file: path.to_path_buf(),
+        });
+    }
+    Ok(rows)
+}
+
+/// A channel's values; an empty cell in a channel that has data elsewhere is an error.
+fn full_column(
+    path: &Path,
+    rows: &[Row],
+    values: &[Option<f64>],
+    name: &str,
+) -> Result<Vec<f64>, SignalError> {
+    values
+        .iter()
+        .zip(rows)
+        .map(|(v, (line, _))| {
+            v.ok_or_else(|| err(path, *line, format!("channel `{name}`: empty cell")))
+        })
+        .collect()
+}
+
+/// The sampling rate: the first X column when it holds times, else `Delta_X`, which must be
+/// the same for every channel read.
+fn rate(
+    path: &Path,
+    rows: &[Row],
+    dts: &[(String, f64)],
+    l: &Layout,
+    seg_end: usize,
+) -> Result<Rate, SignalError> {
+    if let Some((name, dt)) = dts.first()
+        && let Some((other, dt2)) = dts.iter().find(|(_, d)| (d - dt).abs() > 1e-9 * dt.abs())
+    {
+        return Err(err(
+            path,
+            seg_end,
+            format!(
+                "Delta_X differs between channels (`{name}` {dt}, `{other}` {dt2}): select channels of one rate with --channels"
+            ),
+        ));
+    }
+    if l.x != XColumns::No {
+        let times: Vec<Option<f64>> = rows
+            .iter()
+            .map(|(_, r)| r.first().copied().flatten())
+            .collect();
+        if times.iter().all(Option::is_some) {
+            let t = times.into_iter().flatten().collect();
+            return Ok(Rate::Times(t, "X_Value".into()));
+        }
+    }
+    match dts.first() {
+        Some((_, dt)) if *dt > 0.0 => Ok(Rate::Stated(
+            1.0 / dt,
+            "Delta_X of the LVM segment header".into(),
+        )),
+        _ => Ok(Rate::Unknown),
+    }
+}

@@ -1,0 +1,120 @@
+//! Which format a log file is in, and reading any of them into a [`Log`]: CSV-like text
+//! ([`crate::signal::ingest`], streamed), UFF58/58b time histories ([`crate::signal::uff`]),
+//! LabVIEW `.lvm` ([`lvm`]) and MATLAB level 5 `.mat` ([`mat`]). The format is told by the
+//! file's first bytes, never by its extension.
+
+pub mod lvm;
+pub mod mat;
+pub mod table;
+
+use crate::error::SignalError;
+use crate::signal::ingest::{IngestOptions, Log, Unit, read_csv};
+use crate::signal::uff::{looks_like_uff, ordinate_unit, read_uff};
+use std::io::Read;
+use std::path::Path;
+use table::{Rate, Series, Table, table_to_log};
+
+/// The format of a log file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LogFormat {
+    /// Delimited text (comma, semicolon, tab, whitespace).
+    Csv,
+    /// Universal File Format, dataset 58 (ASCII or 58b).
+    Uff,
+    /// LabVIEW Measurement file.
+    Lvm,
+    /// MATLAB MAT-file.
+    Mat,
+}
+
+/// Tells the format from the first bytes of the file (a file that cannot be opened is taken as
+/// CSV, whose reader then reports the error).
+pub fn detect(path: &Path) -> LogFormat {
+    let mut head = [0u8; 128];
+    let n = std::fs::File::open(path)
+        .and_then(|mut f| f.read(&mut head))
+        .unwrap_or(0);
+    let head = &head[..n];
+    if mat::looks_like_mat(head) {
+        LogFormat::Mat
+    } else if lvm::looks_like_lvm(head) {
+        LogFormat::Lvm
+    } else if looks_like_uff(path) {
+        LogFormat::Uff
+    } else {
+        LogFormat::Csv
+    }
+}
+
+fn read_bytes(path: &Path) -> Result<Vec<u8>, SignalError> {
+    std::fs::read(path).map_err(|e| SignalError::Unsupported {
+        file: path.to_path_buf(),
+        message: format!("cannot read: {e}"),
+    })
+}
+
+/// Reads a log of any format into memory, with the selection, units and rate of `opts`.
+pub fn read_log(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
+    match detect(path) {
+        LogFormat::Csv => read_csv(path, opts),
+        LogFormat::Lvm => table_to_log(path, lvm::read_lvm(path, &read_bytes(path)?)?, opts),
+        LogFormat::Mat => table_to_log(path, mat::read_mat(path, &read_bytes(path)?)?, opts),
+        LogFormat::Uff => table_to_log(path, uff_table(path, opts)?, opts),
+    }
+}
+
+/// The time histories (function type 1, real, evenly spaced) of a UFF file as columns; their
+/// unit is the record's units field.
+fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
+    let file = read_uff(path)?;
+    let mut series = Vec::new();
+    let mut ignored = Vec::new();
+    let mut rate = Rate::Unknown;
+    for (i, r) in file.records.iter().enumerate() {
+        let name = if r.id4.is_empty() {
+            format!("record {}", i + 1)
+        } else {
+            r.id4.clone()
+        };
+        let step = r.uniform_step();
+        match (r.function_type, r.is_complex(), step) {
+            (1, false, Some(step)) => {
+                if let Rate::Stated(fs, _) = rate
+                    && (fs * step - 1.0).abs() > 1e-6
+                {
+                    ignored.push(format!(
+                        "`{name}` (line {}: a step of {step} s, not 1/{fs} s)",
+                        r.line
+                    ));
+                    continue;
+                }
+                if matches!(rate, Rate::Unknown) {
+                    rate = Rate::Stated(1.0 / step, format!("the abscissa increment of `{name}`"));
+                }
+                let unit_label = match ordinate_unit(&r.ordinate_label, opts, &name) {
+                    Unit::G => "g",
+                    Unit::MPerS2 => "m/s2",
+                    Unit::AsIs => "",
+                };
+                series.push(Series {
+                    name,
+                    unit_label: unit_label.to_string(),
+                    values: r.re.clone(),
+                });
+            }
+            (t, _, _) => ignored.push(format!(
+                "`{name}` (line {}: function type {t}, not a real evenly spaced time history)",
+                r.line
+            )),
+        }
+    }
+    Ok(Table {
+        format: "uff",
+        delimiter: "none (UFF)",
+        decimal: ".",
+        series,
+        rate,
+        ignored,
+        notes: file.note(path).into_iter().collect(),
+    })
+}

@@ -1,0 +1,193 @@
+//! The eleven header records of dataset 58 and the 58b marker line.
+//!
+//! Records 6-7 are read by whitespace splitting, which their fixed formats allow; records 8-11
+//! (`I10,3I5,2(1X,A20)`) by column, since their labels may hold blanks ("Acceleration, m/s2").
+
+use super::{AxisInfo, err};
+use crate::error::SignalError;
+use std::path::Path;
+
+/// The binary layout a `58b` marker line announces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct BinaryLayout {
+    pub little_endian: bool,
+    pub ascii_lines: usize,
+    pub bytes: usize,
+}
+
+fn field<T: std::str::FromStr>(
+    file: &Path,
+    line: u64,
+    tokens: &[&str],
+    k: usize,
+    what: &str,
+) -> Result<T, SignalError> {
+    let t = tokens
+        .get(k)
+        .ok_or_else(|| err(file, line, format!("missing field {} ({what})", k + 1)))?;
+    t.parse::<T>().map_err(|_| {
+        err(
+            file,
+            line,
+            format!("field {} ({what}): cannot parse `{t}`", k + 1),
+        )
+    })
+}
+
+/// The `58b` marker line: `58b  byte-order  fp-format  ascii-lines  bytes  0 0 0 0`.
+pub(super) fn binary_layout(
+    file: &Path,
+    line: u64,
+    text: &str,
+) -> Result<BinaryLayout, SignalError> {
+    let t: Vec<&str> = text.split_whitespace().collect();
+    let what = |s: &str| format!("58b marker line: {s}");
+    let order: i64 = field(file, line, &t, 1, &what("byte ordering"))?;
+    let fp: i64 = field(file, line, &t, 2, &what("floating-point format"))?;
+    let ascii_lines: usize = field(file, line, &t, 3, &what("number of ASCII header lines"))?;
+    let bytes: usize = field(file, line, &t, 4, &what("number of data bytes"))?;
+    let little_endian = match order {
+        1 => true,
+        2 => false,
+        o => {
+            return Err(err(
+                file,
+                line,
+                format!("58b byte ordering {o} (expected 1 little-endian or 2 big-endian)"),
+            ));
+        }
+    };
+    if fp != 2 {
+        return Err(err(
+            file,
+            line,
+            format!("58b floating-point format {fp}: only 2 (IEEE 754) is read"),
+        ));
+    }
+    if ascii_lines != 11 {
+        return Err(err(
+            file,
+            line,
+            format!("58b announces {ascii_lines} ASCII header lines; dataset 58 has 11"),
+        ));
+    }
+    Ok(BinaryLayout {
+        little_endian,
+        ascii_lines,
+        bytes,
+    })
+}
+
+/// Records 8-11: data type, then the axis label and the units label.
+pub(super) fn axis(line: &str) -> AxisInfo {
+    let data_type = line
+        .split_whitespace()
+        .next()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(0);
+    let column = |a: usize, b: usize| line.get(a..b.min(line.len())).map(str::trim);
+    let aligned = line.len() > 47 && line.as_bytes()[25] == b' ' && line.as_bytes()[46] == b' ';
+    let (label, unit) = if aligned {
+        (column(26, 46), column(47, 67))
+    } else {
+        // Hand-written files do not always keep the columns: axis label, then units last.
+        let t: Vec<&str> = line.split_whitespace().skip(4).collect();
+        (t.first().copied(), (t.len() > 1).then(|| t[t.len() - 1]))
+    };
+    let clean = |s: Option<&str>| match s {
+        Some(s) if !s.eq_ignore_ascii_case("none") => s.to_string(),
+        _ => String::new(),
+    };
+    AxisInfo {
+        data_type,
+        label: clean(label),
+        unit: clean(unit),
+    }
+}
+
+/// Record 6 (function identification): function type, response and reference entity, node
+/// and direction.
+pub(super) struct Record6 {
+    pub function_type: i64,
+    pub response_entity: String,
+    pub response_node: i64,
+    pub response_direction: i64,
+    pub reference_entity: String,
+    pub reference_node: i64,
+    pub reference_direction: i64,
+}
+
+/// Record 6, format `I5,I10,I5,I10,1X,A10,I10,I4,1X,A10,I10,I4`: the entity names are read by
+/// column (they may hold blanks, "Mic 01"), the numbers around them by splitting.
+pub(super) fn record6(file: &Path, line: u64, text: &str) -> Result<Record6, SignalError> {
+    let t: Vec<&str> = text.split_whitespace().collect();
+    let function_type: i64 = field(file, line, &t, 0, "function type")?;
+    let col = |a: usize, b: usize| text.get(a..b.min(text.len())).unwrap_or("").trim();
+    let num = |a: usize, b: usize| col(a, b).parse::<i64>().unwrap_or(0);
+    let name = |s: &str| {
+        if s.eq_ignore_ascii_case("none") {
+            String::new()
+        } else {
+            s.to_string()
+        }
+    };
+    Ok(Record6 {
+        function_type,
+        response_entity: name(col(31, 41)),
+        response_node: num(41, 51),
+        response_direction: num(51, 55),
+        reference_entity: name(col(56, 66)),
+        reference_node: num(66, 76),
+        reference_direction: num(76, 80),
+    })
+}
+
+/// Record 7 (data form): ordinate type, number of points, spacing, first abscissa, increment.
+pub(super) struct Record7 {
+    pub ordinate_type: i64,
+    pub points: usize,
+    pub even: bool,
+    pub x0: f64,
+    pub dx: f64,
+}
+
+pub(super) fn record7(file: &Path, line: u64, text: &str) -> Result<Record7, SignalError> {
+    let t: Vec<&str> = text.split_whitespace().collect();
+    let ordinate_type: i64 = field(file, line, &t, 0, "ordinate data type")?;
+    let points: usize = field(file, line, &t, 1, "number of data values")?;
+    let spacing: i64 = field(file, line, &t, 2, "abscissa spacing")?;
+    let x0: f64 = field(file, line, &t, 3, "abscissa minimum")?;
+    let dx: f64 = field(file, line, &t, 4, "abscissa increment")?;
+    if !matches!(ordinate_type, 2 | 4 | 5 | 6) {
+        return Err(err(
+            file,
+            line,
+            format!("ordinate data type {ordinate_type} (expected 2, 4, 5 or 6)"),
+        ));
+    }
+    let even = match spacing {
+        1 => true,
+        0 => false,
+        other => {
+            return Err(err(
+                file,
+                line,
+                format!("abscissa spacing {other} (expected 0 or 1)"),
+            ));
+        }
+    };
+    if even && !(dx.is_finite() && dx > 0.0) {
+        return Err(err(
+            file,
+            line,
+            format!("abscissa increment {dx} must be positive"),
+        ));
+    }
+    Ok(Record7 {
+        ordinate_type,
+        points,
+        even,
+        x0,
+        dx,
+    })
+}

@@ -1,0 +1,479 @@
+//! Universal File Format dataset 58 (function at a node): time histories and spectra exported
+//! by shaker controllers and modal acquisition systems, e.g. the VibControl PSD in
+//! `data/realdata/pyuff-vibcontrol-psd`, in the ASCII form and the binary form 58b (text header,
+//! IEEE values).
+//!
+//! Hand-written: no maintained Rust crate reads UFF (pyuff is Python). The layout follows the
+//! SDRC/Siemens UFF58 description: 11 header records, then the data, in fixed-width fields
+//! (ASCII) or as raw little- or big-endian floats (58b). Other datasets in the file are skipped
+//! and listed.
+
+mod cursor;
+mod header;
+
+use crate::error::SignalError;
+use cursor::Cursor;
+use header::BinaryLayout;
+use std::path::{Path, PathBuf};
+
+/// Data type, label and units label of one axis (UFF58 records 8-11).
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
+pub struct AxisInfo {
+    /// 17 time, 18 frequency, 12 acceleration, 13 excitation force, 21 pressure, 0 unknown ...
+    pub data_type: i64,
+    /// What the axis is ("Acceleration"); empty for `NONE`.
+    pub label: String,
+    /// Its unit ("m/s2"); empty for `NONE`.
+    pub unit: String,
+}
+
+/// One UFF58 record.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct UffRecord {
+    /// Line of the `58` marker in the file (1-based).
+    pub line: u64,
+    /// Whether the values were stored in binary (58b).
+    pub binary: bool,
+    pub id1: String,
+    /// The channel's name: ID line 4, else the response entity of record 6 (many exporters
+    /// leave ID line 4 as `NONE`); empty when both are `NONE`.
+    pub id4: String,
+    /// 1 time response, 4 FRF, 9 PSD, 12 spectrum, ... (UFF58 record 6 field 1).
+    pub function_type: i64,
+    pub response_entity: String,
+    pub response_node: i64,
+    pub response_direction: i64,
+    pub reference_entity: String,
+    pub reference_node: i64,
+    pub reference_direction: i64,
+    /// 2 real single, 4 real double, 5 complex single, 6 complex double (record 7 field 1).
+    pub ordinate_type: i64,
+    /// The ordinate's units label (record 9), e.g. `m/s2`, `g`, `Pa`.
+    pub ordinate_label: String,
+    pub abscissa_axis: AxisInfo,
+    pub ordinate_axis: AxisInfo,
+    /// The ordinate denominator (record 10), e.g. the force of an FRF.
+    pub denominator_axis: AxisInfo,
+    pub abscissa: Vec<f64>,
+    /// Real part (or the value of a real record).
+    pub re: Vec<f64>,
+    /// Imaginary part; empty for a real record.
+    pub im: Vec<f64>,
+    pub even_spacing: bool,
+}
+
+impl UffRecord {
+    pub fn is_complex(&self) -> bool {
+        !self.im.is_empty()
+    }
+
+    /// Spacing of an evenly spaced abscissa, checked to 1e-6 relative.
+    pub fn uniform_step(&self) -> Option<f64> {
+        if self.abscissa.len() < 2 {
+            return None;
+        }
+        let d = (self.abscissa[self.abscissa.len() - 1] - self.abscissa[0])
+            / (self.abscissa.len() - 1) as f64;
+        let ok = d > 0.0
+            && self
+                .abscissa
+                .windows(2)
+                .all(|w| ((w[1] - w[0]) - d).abs() <= 1e-6 * d.abs().max(f64::MIN_POSITIVE));
+        ok.then_some(d)
+    }
+}
+
+/// The dataset-58 records of a file and the other datasets it skipped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UffFile {
+    pub records: Vec<UffRecord>,
+    /// (line of the marker, dataset number) of every dataset that is not 58.
+    pub skipped: Vec<(u64, String)>,
+}
+
+impl UffFile {
+    /// One stderr line naming the datasets skipped, if any.
+    pub fn note(&self, file: &Path) -> Option<String> {
+        if self.skipped.is_empty() {
+            return None;
+        }
+        Some(format!(
+            "{}: skipped UFF datasets {} (only dataset 58, a function at a node, is read)",
+            file.display(),
+            dataset_list(&self.skipped)
+        ))
+    }
+}
+
+fn err(file: &Path, line: u64, message: impl Into<String>) -> SignalError {
+    SignalError::Uff {
+        file: file.to_path_buf(),
+        line,
+        message: message.into(),
+    }
+}
+
+/// Reads every dataset-58 record of a UFF file (ASCII or 58b).
+pub fn read_uff58(path: &Path) -> Result<Vec<UffRecord>, SignalError> {
+    read_uff(path).map(|f| f.records)
+}
+
+/// Reads a UFF file: its dataset-58 records and the list of datasets skipped.
+pub fn read_uff(path: &Path) -> Result<UffFile, SignalError> {
+    let bytes = std::fs::read(path).map_err(|e| SignalError::Unsupported {
+        file: path.to_path_buf(),
+        message: format!("cannot read: {e}"),
+    })?;
+    parse_uff(path, &bytes)
+}
+
+/// Parses UFF58 records from the bytes of a file named `path` (used in messages only).
+pub fn parse_uff58(path: &Path, bytes: &[u8]) -> Result<Vec<UffRecord>, SignalError> {
+    parse_uff(path, bytes).map(|f| f.records)
+}
+
+/// Parses a whole UFF file: datasets are delimited by `-1` lines; the line after a delimiter
+/// names the dataset.
+pub fn parse_uff(path: &Path, bytes: &[u8]) -> Result<UffFile, SignalError> {
+    let file: PathBuf = path.to_path_buf();
+    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
+        return Err(SignalError::EmptyFile { file });
+    }
+    let mut cur = Cursor::new(bytes);
+    let mut out = UffFile {
+        records: Vec::new(),
+        skipped: Vec::new(),
+    };
+    while let Some(l) = cur.next_line() {
+        if l.trim() != "-1" {
+            check_text(&file, cur.line() - 1, &l)?;
+            continue;
+        }
+        let marker_line = cur.line();
+        let Some(kind) = cur.next_line() else {
+            break;
+        };
+        let kind_word = kind.split_whitespace().next().unwrap_or("").to_string();
+        match kind_word.as_str() {
+            "-1" => continue,
+            "58" => out
+                .records
+                .push(parse_record(&file, &mut cur, marker_line, None)?),
+            "58b" => {
+                let layout = header::binary_layout(&file, marker_line, &kind)?;
+                out.records
+                    .push(parse_record(&file, &mut cur, marker_line, Some(layout))?);
+            }
+            other if other.ends_with('b') => {
+                // A foreign binary dataset cannot be skipped line by line.
+                return Err(err(
+                    &file,
+                    marker_line,
+                    format!("binary dataset {other}: only datasets 58 and 58b are read"),
+                ));
+            }
+            other => {
+                out.skipped.push((marker_line, other.to_string()));
+                skip_dataset(&mut cur);
+            }
+        }
+    }
+    if out.records.is_empty() {
+        let found = if out.skipped.is_empty() {
+            "no dataset".to_string()
+        } else {
+            format!("datasets {} only", dataset_list(&out.skipped))
+        };
+        return Err(err(
+            &file,
+            1,
+            format!(
+                "no dataset 58 found ({found}; expected a line `    -1` then `    58` or `    58b`): export the time histories or spectra as UFF58"
+            ),
+        ));
+    }
+    Ok(out)
+}
+
+/// The dataset numbers, each once, in file order.
+fn dataset_list(skipped: &[(u64, String)]) -> String {
+    let mut kinds: Vec<&str> = Vec::new();
+    for (_, k) in skipped {
+        if !kinds.contains(&k.as_str()) {
+            kinds.push(k);
+        }
+    }
+    kinds.join(", ")
+}
+
+/// Refuses a NUL byte outside a 58b data block: such a file is not UFF text.
+fn check_text(file: &Path, line: u64, text: &str) -> Result<(), SignalError> {
+    if text.contains('\0') {
+        return Err(err(
+            file,
+            line,
+            "binary content outside a 58b data block: not a UFF file",
+        ));
+    }
+    Ok(())
+}
+
+/// Moves past the closing `-1` of a dataset that is not read.
+fn skip_dataset(cur: &mut Cursor) {
+    while let Some(l) = cur.next_line() {
+        if l.trim() == "-1" {
+            break;
+        }
+    }
+}
+
+/// Reads the 11 header lines and the data of one dataset 58 (ASCII) or 58b (`binary`).
+fn parse_record(
+    file: &Path,
+    cur: &mut Cursor,
+    marker: u64,
+    binary: Option<BinaryLayout>,
+) -> Result<UffRecord, SignalError> {
+    let first = cur.line();
+    let mut head: Vec<String> = Vec::with_capacity(11);
+    for _ in 0..11 {
+        let l = cur.next_line().ok_or_else(|| {
+            err(
+                file,
+                cur.line(),
+                format!(
+                    "file ends inside the UFF58{} header",
+                    if binary.is_some() { "b" } else { "" }
+                ),
+            )
+        })?;
+        head.push(l);
+    }
+    let line_of = |k: usize| first + k as u64;
+    let id1 = head[0].trim().to_string();
+    let id4 = head[3].trim().to_string();
+    let r6 = header::record6(file, line_of(5), &head[5])?;
+    let r7 = header::record7(file, line_of(6), &head[6])?;
+    let abscissa_axis = header::axis(&head[7]);
+    let ordinate_axis = header::axis(&head[8]);
+    let denominator_axis = header::axis(&head[9]);
+    let name = if id4.is_empty() || id4.eq_ignore_ascii_case("none") {
+        r6.response_entity.clone()
+    } else {
+        id4
+    };
+    let complex = matches!(r7.ordinate_type, 5 | 6);
+    // Values per point in the data block.
+    let per_point = usize::from(!r7.even) + if complex { 2 } else { 1 };
+    let need = r7
+        .points
+        .checked_mul(per_point)
+        .ok_or_else(|| err(file, line_of(6), "number of data values overflows"))?;
+    let values = match binary {
+        None => ascii_values(file, cur, need, r7.points, marker)?,
+        Some(layout) => binary_values(file, cur, need, &r7, layout, marker)?,
+    };
+    let (abscissa, re, im) = split_points(&values, &r7, complex);
+    if !r7.even && abscissa.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(err(file, marker, "the abscissa does not increase"));
+    }
+    Ok(UffRecord {
+        line: marker,
+        binary: binary.is_some(),
+        id1,
+        id4: name,
+        function_type: r6.function_type,
+        response_entity: r6.response_entity,
+        response_node: r6.response_node,
+        response_direction: r6.response_direction,
+        reference_entity: r6.reference_entity,
+        reference_node: r6.reference_node,
+        reference_direction: r6.reference_direction,
+        ordinate_type: r7.ordinate_type,
+        ordinate_label: ordinate_axis.unit.clone(),
+        abscissa_axis,
+        ordinate_axis,
+        denominator_axis,
+        abscissa,
+        re,
+        im,
+        even_spacing: r7.even,
+    })
+}
+
+/// ASCII data: numbers up to the closing `-1`, exactly `need` of them.
+fn ascii_values(
+    file: &Path,
+    cur: &mut Cursor,
+    need: usize,
+    points: usize,
+    marker: u64,
+) -> Result<Vec<f64>, SignalError> {
+    let mut values: Vec<f64> = Vec::with_capacity(need.min(1 << 24));
+    loop {
+        let line_no = cur.line();
+        let Some(l) = cur.next_line() else {
+            return Err(err(
+                file,
+                line_no.saturating_sub(1).max(1),
+                "dataset 58 is not closed by `-1`",
+            ));
+        };
+        if l.trim() == "-1" {
+            break;
+        }
+        check_text(file, line_no, &l)?;
+        for tok in l.split_whitespace() {
+            // Fortran may write D exponents.
+            let v: f64 = if tok.contains(['D', 'd']) {
+                tok.replace(['D', 'd'], "E").parse()
+            } else {
+                tok.parse()
+            }
+            .map_err(|_| err(file, line_no, format!("cannot parse number `{tok}`")))?;
+            if !v.is_finite() {
+                return Err(err(file, line_no, format!("non-finite value `{tok}`")));
+            }
+            values.push(v);
+        }
+    }
+    if values.len() != need {
+        return Err(err(
+            file,
+            marker,
+            format!(
+                "record 7 announces {points} points ({need} values) but the data block holds {}",
+                values.len()
+            ),
+        ));
+    }
+    Ok(values)
+}
+
+/// 58b data: `layout.bytes` raw IEEE values (single for ordinate types 2 and 5, double for 4
+/// and 6), then the closing `-1`.
+fn binary_values(
+    file: &Path,
+    cur: &mut Cursor,
+    need: usize,
+    r7: &header::Record7,
+    layout: BinaryLayout,
+    marker: u64,
+) -> Result<Vec<f64>, SignalError> {
+    let width = if matches!(r7.ordinate_type, 2 | 5) {
+        4
+    } else {
+        8
+    };
+    let expected = need.saturating_mul(width);
+    if layout.bytes != expected {
+        return Err(err(
+            file,
+            marker,
+            format!(
+                "58b announces {} data bytes, but record 7 ({} points of ordinate type {}) needs {expected}",
+                layout.bytes, r7.points, r7.ordinate_type
+            ),
+        ));
+    }
+    let at = cur.line();
+    let block = cur.take(layout.bytes).ok_or_else(|| {
+        err(
+            file,
+            at,
+            format!(
+                "file ends inside the 58b data block of {} bytes",
+                layout.bytes
+            ),
+        )
+    })?;
+    let mut values = Vec::with_capacity(need);
+    for chunk in block.chunks_exact(width) {
+        let v = match (width, layout.little_endian) {
+            (4, true) => f32::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]) as f64,
+            (4, false) => f32::from_be_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]) as f64,
+            (_, true) => f64::from_le_bytes(chunk.try_into().unwrap_or([0; 8])),
+            (_, false) => f64::from_be_bytes(chunk.try_into().unwrap_or([0; 8])),
+        };
+        if !v.is_finite() {
+            return Err(err(
+                file,
+                marker,
+                format!("58b value {} is not finite", values.len() + 1),
+            ));
+        }
+        values.push(v);
+    }
+    cur.finish_binary_line();
+    let close = cur.line();
+    match cur.next_line() {
+        Some(l) if l.trim() == "-1" => Ok(values),
+        _ => Err(err(
+            file,
+            close,
+            "the 58b data block is not followed by `-1` (byte count of the 58b line wrong?)",
+        )),
+    }
+}
+
+/// Splits the data block into abscissa, real and imaginary parts.
+fn split_points(
+    values: &[f64],
+    r7: &header::Record7,
+    complex: bool,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let per_point = usize::from(!r7.even) + if complex { 2 } else { 1 };
+    let n = values.len() / per_point;
+    let mut abscissa = Vec::with_capacity(n);
+    let mut re = Vec::with_capacity(n);
+    let mut im = Vec::with_capacity(if complex { n } else { 0 });
+    for (k, chunk) in values.chunks_exact(per_point).enumerate() {
+        let mut c = chunk.iter();
+        let x = if r7.even {
+            r7.x0 + k as f64 * r7.dx
+        } else {
+            *c.next().unwrap_or(&0.0)
+        };
+        abscissa.push(x);
+        re.push(*c.next().unwrap_or(&0.0));
+        if complex {
+            im.push(*c.next().unwrap_or(&0.0));
+        }
+    }
+    (abscissa, re, im)
+}
+
+/// Whether a file looks like UFF (first non-blank line is the `-1` delimiter).
+pub fn looks_like_uff(path: &Path) -> bool {
+    use std::io::Read;
+    let mut buf = [0u8; 256];
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return false;
+    };
+    let n = f.read(&mut buf).unwrap_or(0);
+    let s = String::from_utf8_lossy(&buf[..n]);
+    s.lines()
+        .find(|l| !l.trim().is_empty())
+        .is_some_and(|l| l.trim() == "-1")
+}
+
+/// The unit of a record's channel: a `--units` entry for the channel wins, then the record's
+/// units field (m/s² or g), then the default unit of the read.
+pub(crate) fn ordinate_unit(
+    label: &str,
+    ingest: &crate::signal::ingest::IngestOptions,
+    name: &str,
+) -> crate::signal::ingest::Unit {
+    use crate::signal::ingest::Unit;
+    if let Some((_, u)) = ingest.channel_units.iter().find(|(n, _)| n == name) {
+        return *u;
+    }
+    let l = label.to_ascii_lowercase();
+    if l.starts_with("m/s") {
+        Unit::MPerS2
+    } else if l.starts_with('g') {
+        Unit::G
+    } else {
+        ingest.default_unit.unwrap_or(Unit::AsIs)
+    }
+}
