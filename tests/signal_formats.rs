@@ -205,7 +205,10 @@ fn lvm_from_the_command_line_is_read_by_its_header() {
     assert_eq!(names, ["ax", "ay", "az"]);
     let (code, _, err) = run_text(&["psd", path, "--json"], None);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("(4 samples)") && err.contains("channel `ax"), "{err}");
+    assert!(
+        err.contains("(4 samples)") && err.contains("channel `ax"),
+        "{err}"
+    );
 }
 
 #[test]
