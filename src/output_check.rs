@@ -21,6 +21,13 @@ pub fn check_json<T: Serialize + ?Sized>(value: &T, what: &str) -> Result<(), Er
     }
 }
 
+/// Checks the typed values a `serde_json::json!` document is built from, before it is built:
+/// json! turns a non-finite number into `null`, which the check of the finished document can
+/// no longer tell from an absent value. `what` names the output.
+pub fn check_sources<T: Serialize + ?Sized>(sources: &T, what: &str) -> Result<(), Error> {
+    check_json(sources, what)
+}
+
 /// Checks every cell of a CSV text; the error names the file, the line and the column header.
 pub fn check_csv(what: &str, text: &str) -> Result<(), Error> {
     let mut lines = text.lines();
@@ -383,6 +390,25 @@ mod tests {
         m.insert("fs", Some(f64::INFINITY));
         let e = check_json(&m, "out").unwrap_err().to_string();
         assert!(e.contains("`.fs` is inf"), "{e}");
+    }
+
+    /// What a json! document would print as `null` is refused in its typed sources: the
+    /// tuple's second element, a list whose second value is NaN (serde_json's own `to_value`
+    /// makes that a `null`, the reason the sources are checked).
+    #[test]
+    fn a_nan_in_the_sources_of_a_json_document_is_refused() {
+        let sources = (1.0, vec![2.0, f64::NAN]);
+        assert_eq!(
+            serde_json::to_value(&sources).unwrap()[1][1],
+            serde_json::Value::Null
+        );
+        let e = check_sources(&sources, "psd JSON output")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("psd JSON output") && e.contains("[1][1]") && e.contains("NaN"),
+            "{e}"
+        );
     }
 
     #[test]

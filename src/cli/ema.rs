@@ -151,6 +151,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ));
     }
     p.human(&human.join("\n"));
+    let sources = (h.fs, h.df, m.band_hz(), &m.modes);
+    satqual::output_check::check_sources(&sources, "ema JSON output")?;
     p.json(&result_json(&args, &opts, m, h, &wopts))?;
     Ok(Outcome::Pass)
 }

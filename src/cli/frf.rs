@@ -113,6 +113,17 @@ pub fn print_run_notes(run: &FrfRun) {
     print_notes(&run.notes);
 }
 
+/// The numbers of a run that its JSON is built from (see `check_sources`).
+pub fn check_run_sources(run: &FrfRun, what: &str) -> Result<(), Error> {
+    let h = &run.frf;
+    let screen = run
+        .screen
+        .as_ref()
+        .map(|s| (&s.excited, s.searched_hz, &s.screened_out));
+    let sources = (h.fs, h.df, &run.resonances, screen, &run.impact);
+    satqual::output_check::check_sources(&sources, what)
+}
+
 pub fn peak_json(r: &Resonance) -> serde_json::Value {
     json!({"frequency_hz": r.frequency_hz, "magnitude": r.magnitude, "q": r.q, "coherence": r.coherence, "phase_deg": r.phase_deg, "prominence_db": r.prominence_db})
 }
@@ -173,6 +184,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         human.push(format!("  wrote {}/frf.csv, frf.svg", dir.display()));
     }
     p.human(&human.join("\n"));
+    check_run_sources(&run, "frf JSON output")?;
     let mut doc = json!({
         "files": args.logs,
         "input": args.input,

@@ -94,6 +94,10 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ));
     }
     p.human(&human.join("\n"));
+    let grms: Vec<(f64, Option<f64>)> = run.psd.channels.iter().map(|c| (c.grms, c.rms)).collect();
+    let df = run.first().psd.df;
+    let sources = (run.psd.fs_hz, df, &grms, &run.peaks, &run.tolerance);
+    satqual::output_check::check_sources(&sources, "psd JSON output")?;
     let mut doc = document(&args, &run, &wopts, pass);
     doc["warnings"] = json!(warnings);
     p.json(&doc)?;

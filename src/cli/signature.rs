@@ -106,6 +106,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             .push("  no resonance found in the before-signature: nothing to compare (FAIL)".into());
     }
     p.human(&human.join("\n"));
+    super::frf::check_run_sources(before, "signature JSON output (before)")?;
+    super::frf::check_run_sources(after, "signature JSON output (after)")?;
+    satqual::output_check::check_sources(&rep, "signature JSON output")?;
     p.json(&json!({
         "before": args.before,
         "after": args.after,

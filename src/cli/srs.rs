@@ -90,6 +90,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         human.push(format!("  wrote {}/srs.csv, srs.svg", dir.display()));
     }
     p.human(&human.join("\n"));
+    satqual::output_check::check_sources(&(&res, &checks), "srs JSON output")?;
     p.json(&json!({
         "file": res.file,
         "fs_hz": res.fs_hz,
