@@ -117,7 +117,9 @@ pub struct Resonance {
     /// Coherence at the line of the maximum.
     pub coherence: f64,
     pub phase_deg: f64,
-    pub prominence_db: f64,
+    /// Prominence over the neighbouring minima, dB; `None` for a sweep track's resonance,
+    /// which is the maximum of the whole track rather than one peak among others.
+    pub prominence_db: Option<f64>,
 }
 
 /// Resonances on the magnitude of `h` (e.g. [`Frf::h1`]), strongest `opts.max_peaks` of those
@@ -144,7 +146,7 @@ pub fn resonances(
                 q,
                 coherence: coherence.get(p.line).copied().unwrap_or(0.0),
                 phase_deg: h[p.line].arg().to_degrees(),
-                prominence_db: p.prominence_db,
+                prominence_db: Some(p.prominence_db),
             }
         })
         .collect()

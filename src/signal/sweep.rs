@@ -293,6 +293,6 @@ pub fn sweep_resonance(track: &SweepTrack, r: usize) -> Option<Resonance> {
         q,
         coherence: track.sine_fraction[r][i],
         phase_deg: h[i].arg().to_degrees(),
-        prominence_db: f64::NAN,
+        prominence_db: None,
     })
 }
