@@ -261,3 +261,40 @@ fn limits_are_scene_keys() {
         "{err}"
     );
 }
+
+/// A sampling rate outside [1e-6, 1e9] Hz is refused whatever states it, naming the file and
+/// the source: a LabVIEW header's Delta_X of 1e-308 s (1e308 Hz), and `--fs 1e300`.
+#[test]
+fn an_implausible_sampling_rate_is_refused_naming_its_source() {
+    let dir = temp_dir("hostile-fs");
+    let lvm = std::fs::read_to_string("data/realdata/dialects/lvm_read/short.lvm").unwrap();
+    let bad = lvm.replace(
+        "Delta_X\t3,906250E-5\t3,906250E-5",
+        "Delta_X\t1e-308\t1e-308",
+    );
+    assert_ne!(bad, lvm);
+    let f = dir.join("tiny-step.lvm");
+    std::fs::write(&f, bad).unwrap();
+    let (code, _, err) = run_text(&["srs", f.to_str().unwrap(), "--fmax", "1000"], None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("tiny-step.lvm") && err.contains("Delta_X") && err.contains("plausible range"),
+        "{err}"
+    );
+    let csv = "data/realdata/hrshm-pcb-shock/acc_base_a0_first5ms.csv";
+    let args = [
+        "psd",
+        csv,
+        "--fs",
+        "1e300",
+        "--fs-override",
+        "--nperseg",
+        "16",
+    ];
+    let (code, _, err) = run_text(&args, None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--fs") && err.contains("plausible range"),
+        "{err}"
+    );
+}

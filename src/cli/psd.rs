@@ -97,7 +97,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let grms: Vec<(f64, Option<f64>)> = run.psd.channels.iter().map(|c| (c.grms, c.rms)).collect();
     let df = run.first().psd.df;
     let sources = (run.psd.fs_hz, df, &grms, &run.peaks, &run.tolerance);
-    satqual::output_check::check_sources(&sources, "psd JSON output")?;
+    let what = format!("psd JSON output of {}", args.log.display());
+    satqual::output_check::check_sources(&sources, &what)?;
     let mut doc = document(&args, &run, &wopts, pass);
     doc["warnings"] = json!(warnings);
     p.json(&doc)?;

@@ -90,7 +90,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         human.push(format!("  wrote {}/srs.csv, srs.svg", dir.display()));
     }
     p.human(&human.join("\n"));
-    satqual::output_check::check_sources(&(&res, &checks), "srs JSON output")?;
+    let what = format!("srs JSON output of {}", args.log.display());
+    satqual::output_check::check_sources(&(&res, &checks), &what)?;
     p.json(&json!({
         "file": res.file,
         "fs_hz": res.fs_hz,

@@ -70,7 +70,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         track.frequency_hz.last().copied().unwrap_or(f64::NAN)
     )];
     let sources = (run.fs_hz, track, &run.resonances);
-    satqual::output_check::check_sources(&sources, "sweep JSON output")?;
+    let what = format!("sweep JSON output of {}", args.log.display());
+    satqual::output_check::check_sources(&sources, &what)?;
     let mut out = Vec::new();
     for (name, res) in names.iter().zip(&run.resonances) {
         match res {

@@ -67,7 +67,7 @@ fn sampling_rate(path: &Path, rate: &Rate, opts: &IngestOptions) -> Result<f64, 
         && fs.is_finite()
         && fs > 0.0
     {
-        return Ok(fs);
+        return crate::signal::ingest::plausible_rate(path, fs, "--fs");
     }
     let stated = match rate {
         Rate::Stated(fs, _) => Some(*fs),
@@ -96,7 +96,12 @@ fn sampling_rate(path: &Path, rate: &Rate, opts: &IngestOptions) -> Result<f64, 
         }
     };
     if fs.is_finite() && fs > 0.0 {
-        Ok(fs)
+        let source = if opts.fs == Some(fs) {
+            "--fs".to_string()
+        } else {
+            rate_source(rate)
+        };
+        crate::signal::ingest::plausible_rate(path, fs, &source)
     } else {
         Err(SignalError::NoSamplingRate {
             file: path.to_path_buf(),

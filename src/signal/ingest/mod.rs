@@ -15,10 +15,12 @@
 //! newline is not supported (numeric logs have none). Numbers are parsed by `fast-float2`.
 
 pub mod iso8601;
+mod plausible_rate;
 pub mod sniff;
 mod time_unit;
 
 use crate::error::SignalError;
+pub use plausible_rate::{PLAUSIBLE_FS_HZ, plausible_rate};
 use sniff::{Delimiter, Dialect};
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -741,14 +743,15 @@ fn select_columns(
             file: file.to_path_buf(),
         });
     }
-    if let Some(fs) = opts.fs
-        && !(fs.is_finite() && fs > 0.0)
-    {
-        return Err(SignalError::BadParameter {
-            name: "fs",
-            value: fs.to_string(),
-            reason: "must be positive".into(),
-        });
+    if let Some(fs) = opts.fs {
+        if !(fs.is_finite() && fs > 0.0) {
+            return Err(SignalError::BadParameter {
+                name: "fs",
+                value: fs.to_string(),
+                reason: "must be positive".into(),
+            });
+        }
+        plausible_rate(file, fs, "--fs")?;
     }
     for (name, _) in &opts.channel_units {
         if !header.contains(name) {
@@ -1466,6 +1469,7 @@ impl Timing {
                 file: self.file.clone(),
             });
         }
+        let fs = plausible_rate(&self.file, fs, "the time column or --fs")?;
         let report = (self.resample && self.irregular > 0).then_some(ResampleReport {
             uniform_dt_s: self.dt,
             irregular_rows: self.irregular,
