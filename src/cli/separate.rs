@@ -86,6 +86,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     }
     let req = SeparateRequest {
         record_history: args.out.is_some(),
+        release_shock: args.out.is_some(),
         monte_carlo: args.monte_carlo.map(|runs| MonteCarloPlan {
             runs,
             seed: args.seed.unwrap_or(0),
