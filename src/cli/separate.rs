@@ -103,6 +103,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     if let (Some(dir), Some(h)) = (&args.out, &result.history) {
         write_histories(dir, h)?;
     }
+    if let (Some(dir), Some(shock)) = (&args.out, &result.shock) {
+        super::separate_shock::write_csv(dir, shock)?;
+    }
     print(&p, &scene, &result, mc.as_ref())?;
     Ok(Outcome::Pass)
 }
@@ -190,6 +193,9 @@ pub(super) fn print(
     );
     if let Some(c) = result.min_clearance_m {
         let _ = writeln!(s, "  minimum inter-satellite clearance {c:.4} m");
+    }
+    if let Some(shock) = &result.shock {
+        super::separate_shock::summary(&mut s, shock);
     }
     if let Some(mc) = mc {
         let _ = writeln!(
