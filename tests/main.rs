@@ -39,6 +39,7 @@ mod separation_contact;
 mod separation_gates;
 mod separation_input;
 mod separation_montecarlo;
+mod separation_shock;
 
 // Sharded Monte Carlo, merge, Slurm scripts.
 mod campaign;

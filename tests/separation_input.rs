@@ -162,6 +162,7 @@ fn non_finite_state_stops_with_time_and_body() {
         &m,
         &RunOptions {
             record_history: true,
+            ..Default::default()
         },
     ) {
         Err(SeparationError::NonFinite { time_s, body }) => {

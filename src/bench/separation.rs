@@ -368,6 +368,7 @@ fn perturbation_growth(name: &str, m: &Model, tol: f64) -> Result<Growth, Error>
     }
     let opts = RunOptions {
         record_history: true,
+        ..Default::default()
     };
     let (ra, rb) = (separation::run(&a, &opts)?, separation::run(&b, &opts)?);
     let (ha, hb) = (

@@ -19,6 +19,7 @@ mod psd;
 mod qualify;
 mod random;
 mod separate;
+mod separate_shock;
 mod separate_sweep;
 mod signature;
 mod sine;

@@ -86,6 +86,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     }
     let req = SeparateRequest {
         record_history: args.out.is_some(),
+        release_shock: args.out.is_some(),
         monte_carlo: args.monte_carlo.map(|runs| MonteCarloPlan {
             runs,
             seed: args.seed.unwrap_or(0),
@@ -101,6 +102,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     };
     if let (Some(dir), Some(h)) = (&args.out, &result.history) {
         write_histories(dir, h)?;
+    }
+    if let (Some(dir), Some(shock)) = (&args.out, &result.shock) {
+        super::separate_shock::write_csv(dir, shock)?;
     }
     print(&p, &scene, &result, mc.as_ref())?;
     Ok(Outcome::Pass)
@@ -189,6 +193,9 @@ pub(super) fn print(
     );
     if let Some(c) = result.min_clearance_m {
         let _ = writeln!(s, "  minimum inter-satellite clearance {c:.4} m");
+    }
+    if let Some(shock) = &result.shock {
+        super::separate_shock::summary(&mut s, shock);
     }
     if let Some(mc) = mc {
         let _ = writeln!(

@@ -7,8 +7,9 @@
 //! Margins of maxima follow the margin-of-safety form with a factor of safety of 1,
 //! MS = limit/value − 1 (tip-off rate, time on the bars); minima value/limit − 1.
 
-use super::verdict::{Verdict, above, at_least, design_margin};
+use super::verdict::{MARGIN_CAP, Verdict, above, at_least, design_margin};
 use crate::separation::montecarlo::{MonteCarloResult, TailBound};
+use crate::separation::shock::ReleaseShock;
 use crate::separation::{SatelliteResult, SeparationResult, Stall, order_stats};
 use crate::spec::GatesSpec;
 
@@ -36,7 +37,53 @@ pub fn nominal(result: &SeparationResult, run: &RunLimits, limits: &GatesSpec) -
         out.extend(satellite(s, run, limits));
     }
     out.extend(clearance(result, run));
+    if let Some(shock) = &result.shock {
+        out.extend(release_shock(shock));
+    }
     out.into_iter().map(unit_from_name).collect()
+}
+
+const SHOCK_SOURCE: &str = "the scene's component shock specification ([separation.shock] spec_g); SRS by the Smallwood filter, maximax, tolerance and share of points above it as in NASA-STD-7003A";
+
+/// Per moving body with a specification check: the SRS point that decides the check (see
+/// `separation::shock::BodySpecCheck`) against spec × 10^(upper_db/20), MS = limit/value − 1.
+pub fn release_shock(shock: &ReleaseShock) -> Vec<Verdict> {
+    shock
+        .bodies
+        .iter()
+        .filter_map(|b| b.spec.as_ref().map(|c| (b, c)))
+        .map(|(b, c)| match &c.governing {
+            Some(g) => {
+                let ms = if g.measured_g > 0.0 {
+                    (g.limit_g / g.measured_g - 1.0).min(MARGIN_CAP)
+                } else {
+                    MARGIN_CAP
+                };
+                Verdict::gate(
+                    format!(
+                        "{} release shock SRS ({} axis, {:.1} Hz) against the component spec + {} dB [g]",
+                        b.body, g.axis, g.frequency_hz, shock.tolerance.upper_db
+                    ),
+                    g.measured_g,
+                    g.limit_g,
+                    ms,
+                    c.pass,
+                    SHOCK_SOURCE,
+                )
+            }
+            None => Verdict::gate(
+                format!(
+                    "{} release shock SRS: no natural frequency within the component spec's range [g]",
+                    b.body
+                ),
+                0.0,
+                0.0,
+                -1.0,
+                false,
+                SHOCK_SOURCE,
+            ),
+        })
+        .collect()
 }
 
 /// Every gate name of this file ends with its unit in brackets, written once there; the

@@ -130,6 +130,7 @@ fn separation(
 ) -> Result<(SeparationSummary, f64), Error> {
     let req = SeparateRequest {
         record_history: true,
+        release_shock: false,
         monte_carlo: sep.monte_carlo,
     };
     let run = workflows::separate::run(scene, &req, progress)?;

@@ -23,6 +23,7 @@ pub mod montecarlo;
 pub mod order_stats;
 pub mod params;
 pub mod shard;
+pub mod shock;
 pub mod sim;
 
 pub use contact::{ContactParams, ContactState, Transitions};
@@ -30,6 +31,6 @@ pub use integrator::Stats;
 pub use montecarlo::{MonteCarloResult, Percentiles, Realization, monte_carlo};
 pub use params::{Model, SatelliteParams, SpringParams};
 pub use sim::{
-    EdgeLoad, EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult,
-    Stall, run,
+    AccelHistory, EdgeLoad, EnergyAudit, History, PairClearance, RunOptions, SatelliteResult,
+    SeparationResult, Stall, run,
 };

@@ -6,12 +6,16 @@ use crate::pipeline::Progress;
 use crate::pipeline::plan::MonteCarloPlan;
 use crate::separation::{self, Model, MonteCarloResult, RunOptions, SeparationResult};
 use crate::spec::Scene;
+use crate::spec::separation::ShockSpec;
 
 /// What to run besides the nominal release.
 #[derive(Debug, Clone, Copy)]
 pub struct SeparateRequest {
     /// Keep the time histories (for CSV curves and the report's plots).
     pub record_history: bool,
+    /// Compute the release shock even when the scene has no `[separation.shock]` (then with
+    /// its default options), e.g. for the CSV of `separate --out`.
+    pub release_shock: bool,
     pub monte_carlo: Option<MonteCarloPlan>,
 }
 
@@ -31,10 +35,21 @@ pub fn run(
     }
     progress.stage("separation dynamics");
     let model = Model::from_scene(scene)?;
+    let shock_spec = scene
+        .file
+        .separation
+        .as_ref()
+        .and_then(|s| s.shock.clone())
+        .or_else(|| req.release_shock.then(ShockSpec::default));
     let opts = RunOptions {
         record_history: req.record_history,
+        record_acceleration: shock_spec.is_some(),
     };
-    let result = separation::run(&model, &opts)?;
+    let mut result = separation::run(&model, &opts)?;
+    if let Some(spec) = &shock_spec {
+        progress.stage("release shock");
+        result.shock = Some(separation::shock::release_shock(&model, &result, spec)?);
+    }
     let monte_carlo = match req.monte_carlo {
         Some(mc) => {
             progress.stage("separation Monte Carlo");

@@ -54,8 +54,8 @@ mod stiffness_scale;
 mod wedging;
 
 pub use results::{
-    EdgeLoad, EnergyAudit, History, PairClearance, RunOptions, SatelliteResult, SeparationResult,
-    Stall,
+    AccelHistory, EdgeLoad, EnergyAudit, History, PairClearance, RunOptions, SatelliteResult,
+    SeparationResult, Stall,
 };
 
 use super::bar::ModalBar;

@@ -6,7 +6,10 @@ use super::super::body::BODY_STATES;
 use super::super::integrator::Dopri5;
 use super::Sim;
 use super::layout::{body_rate, body_velocity};
-use super::results::{History, PairClearance, SatelliteResult, SeparationResult, Stall};
+use super::results::RunOptions;
+use super::results::{
+    AccelHistory, History, PairClearance, SatelliteResult, SeparationResult, Stall,
+};
 
 /// Running records of one run.
 pub(super) struct Records {
@@ -25,6 +28,7 @@ pub(super) struct Records {
     pub(super) stall: Vec<Option<Stall>>,
     max_rel_residual: f64,
     hist: Option<History>,
+    accel: Option<AccelHistory>,
     /// Time of the next history sample, s.
     next_sample: f64,
     /// A state buffer for the dense output at the history samples.
@@ -32,7 +36,7 @@ pub(super) struct Records {
 }
 
 impl Records {
-    pub(super) fn new(n: usize, record_history: bool, dim: usize) -> Records {
+    pub(super) fn new(n: usize, opts: &RunOptions, dim: usize) -> Records {
         Records {
             max_speed: vec![0.0f64; n],
             max_acc: vec![0.0f64; n],
@@ -44,9 +48,13 @@ impl Records {
             min_engaged_speed: vec![None; n],
             stall: vec![None; n],
             max_rel_residual: 0.0f64,
-            hist: record_history.then(|| History {
+            hist: opts.record_history.then(|| History {
                 satellites: vec![Vec::new(); n],
                 ..Default::default()
+            }),
+            accel: opts.record_acceleration.then(|| AccelHistory {
+                times_s: Vec::new(),
+                bodies: vec![Vec::new(); n + 1],
             }),
             next_sample: 0.0,
             ybuf: vec![0.0; dim],
@@ -62,6 +70,19 @@ impl Sim<'_> {
                 ig.dense(rec.next_sample.min(ig.t), &mut rec.ybuf);
                 self.record(h, rec.next_sample, &rec.ybuf);
                 rec.next_sample += self.m.output_interval_s;
+            }
+        }
+    }
+
+    /// The acceleration of every body at the step end, from the derivative the integrator
+    /// holds there (the forces at that state divided by the masses). Called once before the
+    /// discrete changes of the step end and, when they changed a force, once after.
+    pub(super) fn sample_acceleration(&self, ig: &Dopri5, rec: &mut Records) {
+        if let Some(a) = rec.accel.as_mut() {
+            let dy = ig.derivative();
+            a.times_s.push(ig.t);
+            for (b, samples) in a.bodies.iter_mut().enumerate() {
+                samples.push(body_velocity(dy, b).into());
             }
         }
     }
@@ -175,6 +196,8 @@ impl Sim<'_> {
             min_clearance_m,
             clearance_tracked_to_distance,
             history: rec.hist,
+            acceleration: rec.accel,
+            shock: None,
         }
     }
 

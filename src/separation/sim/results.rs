@@ -10,6 +10,8 @@ use serde::Serialize;
 pub struct RunOptions {
     /// Sample the CSV histories every `model.output_interval_s`.
     pub record_history: bool,
+    /// Keep the acceleration of every body at every accepted step (the release shock).
+    pub record_acceleration: bool,
 }
 
 /// Results of one satellite.
@@ -110,6 +112,17 @@ pub struct History {
     pub energy: Vec<[f64; 6]>,
 }
 
+/// The translational acceleration of every body's CG (body 0 = carrier, body i = satellite
+/// i), from the forces acting on it divided by its mass, at every accepted step end. At a
+/// step end where a discrete change (a release, a contact onset or exit) switches a force,
+/// two samples share the time: the value before the change, then the value after it.
+#[derive(Debug, Clone, Default)]
+pub struct AccelHistory {
+    pub times_s: Vec<f64>,
+    /// `bodies[body][sample]` = [ax, ay, az] in the carrier frame, m/s².
+    pub bodies: Vec<Vec<[f64; 3]>>,
+}
+
 impl SeparationResult {
     /// The smallest clearance between consecutive satellites over the run, or 0 when a pair
     /// that was not yet `track_clearance_to_m` apart at the end is closing: in free flight it
@@ -139,4 +152,9 @@ pub struct SeparationResult {
     pub clearance_tracked_to_distance: bool,
     #[serde(skip)]
     pub history: Option<History>,
+    #[serde(skip)]
+    pub acceleration: Option<AccelHistory>,
+    /// The release shock (`separation::shock`), when asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shock: Option<crate::separation::shock::ReleaseShock>,
 }

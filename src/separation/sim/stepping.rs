@@ -44,14 +44,21 @@ impl Stepper {
 impl Sim<'_> {
     pub(super) fn run(&mut self, opts: &RunOptions) -> Result<SeparationResult, SeparationError> {
         let mut st = self.start();
-        let mut rec = Records::new(self.n, opts.record_history, self.dim);
+        let mut rec = Records::new(self.n, opts, self.dim);
         rec.z0 = (1..=self.n).map(|b| st.ig.y[BODY_STATES * b + 2]).collect();
+        // The state at t = 0, after the releases due then (a release at t = 0 starts the
+        // acceleration history with its spring force).
+        self.sample_acceleration(&st.ig, &mut rec);
         while !self.finished(&st, &rec) {
             self.advance(&mut st)?;
             let events_at_t = self.resolve_events(&mut st)?;
             self.sample_history(&st.ig, &mut rec);
+            self.sample_acceleration(&st.ig, &mut rec);
             let changed = self.apply_discrete_changes(&mut st, &events_at_t);
             self.restart(&mut st, changed, &events_at_t);
+            if changed {
+                self.sample_acceleration(&st.ig, &mut rec);
+            }
             self.update_records(&st.ig, &mut rec);
             self.watch_stalls(&st.ig, &mut rec);
         }
