@@ -134,7 +134,7 @@ pub fn validate(file: &SceneFile, model: &SceneFile, loc: &Locator) -> Result<()
             return Err(loc.err(&key("direction"), msg));
         }
         if let Some(m) = tp.sensor_mass_kg
-            && !(m >= 0.0)
+            && m < 0.0
         {
             return Err(loc.err(
                 &key("sensor_mass_kg"),
@@ -168,7 +168,7 @@ fn validate_test_modes(
     }
     for (i, m) in tm.mode.iter().enumerate() {
         let key = |k: &str| format!("test_modes.mode[{i}].{k}");
-        if !(m.frequency_hz > 0.0) {
+        if m.frequency_hz <= 0.0 {
             let msg = format!("must be positive, got {}", m.frequency_hz);
             return Err(loc.err(&key("frequency_hz"), msg));
         }
@@ -235,7 +235,7 @@ fn validate_correlation(
     }
     for (key, v) in [("fmin_hz", c.fmin_hz), ("fmax_hz", c.fmax_hz)] {
         if let Some(f) = v
-            && !(f >= 0.0)
+            && f < 0.0
         {
             return Err(loc.err(
                 &format!("correlation.{key}"),

@@ -28,7 +28,7 @@ pub fn serep_mass(fe_at_test: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, String> {
     let svd = phi_a.clone().svd(true, true);
     let s = &svd.singular_values;
     let (smax, smin) = (s.max(), s.min());
-    if !(smin > MIN_RELATIVE_SINGULAR_VALUE * smax) {
+    if smin.is_nan() || smin <= MIN_RELATIVE_SINGULAR_VALUE * smax {
         return Err(format!(
             "the test DOFs do not tell the {m} paired FE modes apart (singular values of the shapes at the test DOFs {smin:.3e} … {smax:.3e})"
         ));
