@@ -46,6 +46,7 @@ mod campaign;
 mod param_sweep;
 
 // Test-log signal processing.
+mod correlate;
 mod damping;
 mod ema;
 mod signal_bands;

@@ -8,6 +8,7 @@ use std::io::Write;
 
 mod bench;
 mod campaign;
+mod correlate;
 mod ema;
 mod expand;
 mod frf;
@@ -61,6 +62,8 @@ pub enum Command {
     Frf(frf::Args),
     /// Experimental modal analysis: modes, damping and shapes from FRFs (LSCF + LSFD, or peaks).
     Ema(ema::Args),
+    /// Test-analysis correlation: paired modes, frequency errors, MAC, cross-orthogonality.
+    Correlate(correlate::Args),
     /// Compare the resonances of signatures taken before and after a test.
     Signature(signature::Args),
     /// Sine-sweep tracking: response per unit drive against drive frequency, fn and Q.
@@ -92,6 +95,7 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Psd(a) => psd::run(a),
         Command::Frf(a) => frf::run(a),
         Command::Ema(a) => ema::run(a),
+        Command::Correlate(a) => correlate::run(a),
         Command::Signature(a) => signature::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Srs(a) => srs::run(a),

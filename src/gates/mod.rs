@@ -11,6 +11,7 @@
 //! - [`test_data`]: random control tolerance and pre/post signatures;
 //! - [`summary`]: the governing gate of each family.
 
+pub mod correlation;
 pub mod frequency;
 pub mod lock_integrity;
 pub mod separation;

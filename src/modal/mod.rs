@@ -7,6 +7,7 @@
 //! [`auto_prefers_sparse`] for how `SolverChoice::Auto` chooses.
 
 pub mod checks;
+pub mod correlation;
 pub mod dense;
 pub mod sparse;
 

@@ -307,7 +307,7 @@ fn test_logs(scene: &Scene) -> Result<Vec<TestLogPlan>, Error> {
     Ok(plans)
 }
 
-fn test_log(scene: &Scene, index: usize, t: &TestLogSpec) -> Result<TestLogPlan, Error> {
+pub fn test_log(scene: &Scene, index: usize, t: &TestLogSpec) -> Result<TestLogPlan, Error> {
     let loc = scene.locator();
     let key = |k: &str| format!("test_log[{index}].{k}");
     let dir = scene

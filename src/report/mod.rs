@@ -4,6 +4,7 @@
 mod build;
 pub mod document;
 mod figures;
+pub mod mac_heatmap;
 pub mod plot;
 pub mod qualify;
 pub mod render_html;

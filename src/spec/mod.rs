@@ -8,6 +8,7 @@
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod analysis;
+pub mod correlation;
 pub mod damping_edit;
 #[cfg(test)]
 mod doc_keys;
@@ -68,6 +69,15 @@ pub struct SceneFile {
     /// Measured logs to post-process and gate.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub test_log: Vec<TestLogSpec>,
+    /// Measured channels mapped to model DOFs, for `satqual correlate`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub test_point: Vec<correlation::TestPointSpec>,
+    /// Modes identified outside satqual, for `satqual correlate`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub test_modes: Option<correlation::TestModesSpec>,
+    /// The correlation's frequency standard and the logs its modes are identified from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correlation: Option<correlation::CorrelationSpec>,
     /// The in-orbit release: springs, schedule, contact; the geometry comes from `[stack]` so
     /// that the release and the FE model describe the same hardware.
     #[serde(default)]
@@ -142,6 +152,9 @@ impl Scene {
         // The generic model is one point of the design space; `[sweep]` stays with the file.
         model.sweep = None;
         model::validate(&model, &loc)?;
+        correlation::validate(&file, &model, &loc)?;
+        // The test article carries its sensors: every analysis of this scene sees their mass.
+        correlation::add_sensor_masses(&file, &mut model);
         qualify::validate(
             &file.gates.clone().unwrap_or_default(),
             &file.test_log,

@@ -1,0 +1,107 @@
+//! `satqual correlate SCENE`: the scene's FE modes against its test modes (`[test_modes]`, or
+//! identified from `[correlation] logs`) at its `[[test_point]]`s: the pairs, their frequency
+//! errors, the MAC matrix, the SEREP cross-orthogonality and the gates. `--out DIR` writes the
+//! MAC heat map (mac.svg).
+
+use super::{Outcome, Printer};
+use satqual::Error;
+use satqual::pipeline::workflows::correlate::{self, Correlation};
+use satqual::report::mac_heatmap::{Heatmap, render};
+use satqual::report::write_atomic;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (TOML) with [[test_point]] and [test_modes] or [correlation] logs.
+    pub scene: PathBuf,
+    /// Folder for the MAC heat map, mac.svg.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(args: Args) -> Result<Outcome, Error> {
+    let scene = satqual::spec::Scene::load(&args.scene)?;
+    let c = correlate::run(&scene)?;
+    let p = Printer::new(args.json);
+    let mut human = summary(&args.scene, &c);
+    if let Some(dir) = &args.out {
+        write_heatmap(dir, &c)?;
+        human.push(format!("  wrote {}/mac.svg", dir.display()));
+    }
+    p.human(&human.join("\n"));
+    p.json(&c)?;
+    Ok(if c.passed() {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
+}
+
+fn summary(scene: &Path, c: &Correlation) -> Vec<String> {
+    let mut out = vec![format!(
+        "{}: {} test mode(s) from {}; {} FE mode(s) at {} test point(s); pairing by {}",
+        scene.display(),
+        c.test_modes.len(),
+        c.test_source,
+        c.fe_modes.len(),
+        c.channels.len(),
+        match c.pairing {
+            satqual::modal::correlation::PairingMethod::Mac => "MAC",
+            satqual::modal::correlation::PairingMethod::FrequencyAndDirection =>
+                "frequency and effective-mass direction",
+        }
+    )];
+    for p in &c.pairs {
+        out.push(format!(
+            "  test mode {} {:10.4} Hz  FE mode {} {:10.4} Hz  error {:+7.3}%  MAC {:.4}",
+            p.test_mode, p.test_hz, p.fe_mode, p.fe_hz, p.error_pct, p.mac
+        ));
+    }
+    out.extend(c.notes.iter().map(|n| format!("  note: {n}")));
+    for g in &c.gates {
+        out.push(format!(
+            "  {} {}: {:.4} (limit {})",
+            if g.pass { "PASS" } else { "FAIL" },
+            g.name,
+            g.value,
+            g.limit
+        ));
+    }
+    out
+}
+
+fn write_heatmap(dir: &Path, c: &Correlation) -> Result<(), Error> {
+    let test_labels: Vec<String> = c
+        .test_modes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| format!("test {} {:.2} Hz", i + 1, m.frequency_hz))
+        .collect();
+    let fe_labels: Vec<String> = c
+        .fe_modes
+        .iter()
+        .map(|m| format!("FE {}", m.mode))
+        .collect();
+    let paired: Vec<(usize, usize)> = c
+        .pairs
+        .iter()
+        .map(|p| {
+            let j = c
+                .fe_modes
+                .iter()
+                .position(|m| m.mode == p.fe_mode)
+                .unwrap_or(0);
+            (p.test_mode - 1, j)
+        })
+        .collect();
+    let svg = render(&Heatmap {
+        title: "MAC: test modes (rows) against FE modes (columns), pairs outlined",
+        test_labels: &test_labels,
+        fe_labels: &fe_labels,
+        mac: &c.mac_matrix,
+        paired: &paired,
+    })?;
+    write_atomic(&dir.join("mac.svg"), svg.as_bytes())
+}

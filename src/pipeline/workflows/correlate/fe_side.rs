@@ -1,0 +1,77 @@
+//! The analysis side of the correlation: the scene's elastic FE modes (sensor masses
+//! included) read at the test points, with the direction each mode's effective mass lies in.
+
+use crate::error::Error;
+use crate::fem::FeModel;
+use crate::modal::ModalSystem;
+use crate::spec::Scene;
+use serde::Serialize;
+
+/// Below this, a mode has no translational effective mass to speak of and no direction.
+const MIN_EFFECTIVE_MASS_FRACTION: f64 = 1e-9;
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FeModeAtTest {
+    /// The mode's number in `satqual modal`.
+    pub mode: usize,
+    pub frequency_hz: f64,
+    /// x, y or z: the translation with the largest effective-mass fraction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub direction: Option<&'static str>,
+    /// The mass-normalised shape at the test points, along each point's direction.
+    pub shape: Vec<f64>,
+    #[serde(skip)]
+    pub axis: Option<usize>,
+}
+
+/// Rows of the reduced-DOF map that give each test point's motion along its direction.
+pub fn test_dof_rows(
+    scene: &Scene,
+    model: &FeModel,
+    sys: &ModalSystem,
+) -> Result<Vec<Vec<(usize, f64)>>, Error> {
+    scene
+        .file
+        .test_point
+        .iter()
+        .enumerate()
+        .map(|(i, tp)| {
+            let node = model.nodes.iter().position(|n| n.id == Some(tp.node));
+            let (Some(node), Some((axis, sign))) = (node, tp.axis()) else {
+                let msg = format!("node {} is not in the FE model", tp.node);
+                return Err(scene
+                    .locator()
+                    .err(&format!("test_point[{i}].node"), msg)
+                    .into());
+            };
+            let row = &sys.reduction.map[6 * node + axis];
+            Ok(row.iter().map(|&(r, t)| (r, sign * t)).collect())
+        })
+        .collect()
+}
+
+/// Every elastic mode of `sys` at the test DOFs.
+pub fn fe_modes(sys: &ModalSystem, rows: &[Vec<(usize, f64)>]) -> Vec<FeModeAtTest> {
+    sys.result
+        .modes
+        .iter()
+        .filter(|m| !m.rigid_body)
+        .map(|m| {
+            let shape = rows
+                .iter()
+                .map(|row| row.iter().map(|&(r, t)| t * m.shape[r]).sum())
+                .collect();
+            let f = m.effective_mass_fraction.to_array();
+            let axis = (0..3)
+                .filter(|&a| f[a] > MIN_EFFECTIVE_MASS_FRACTION)
+                .max_by(|&a, &b| f[a].total_cmp(&f[b]));
+            FeModeAtTest {
+                mode: m.index,
+                frequency_hz: m.frequency_hz,
+                direction: axis.map(|a| ["x", "y", "z"][a]),
+                shape,
+                axis,
+            }
+        })
+        .collect()
+}
