@@ -56,6 +56,8 @@ refused_input_cases! {
 
 refused_input_cases! {
     error: |from, to| scene_error(&paper_stack(), from, to);
+    fitting_factor_of_1_7e308: "fitting_factor = 1.15" => "fitting_factor = 1.7e308",
+        contains ["key `margins.fitting_factor`", "plausible range [1e0, 1e1]"];
     stack_with_huge_column_elements: "column_elements = 1" => "column_elements = 100000",
         contains ["key `stack.column_elements`", "4800000 in the columns", "limit of 200000"];
 }

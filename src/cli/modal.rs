@@ -55,12 +55,16 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         )));
     }
     let scene = satqual::spec::Scene::load(&args.scene)?;
-    let (model, sys) = satqual::pipeline::modal_with_solver(
+    // A 20 000-DOF stack takes a minute: say what runs (silent off a terminal or piped).
+    let progress = super::progress::Progress::start(false, args.json, "modal solve");
+    let solved = satqual::pipeline::modal_with_solver(
         &scene,
         args.fmax,
         args.modes,
         args.solver.map(Into::into),
-    )?;
+    );
+    progress.finish();
+    let (model, sys) = solved?;
     let p = Printer::new(args.json);
     let r = &sys.result;
     for w in &r.warnings {

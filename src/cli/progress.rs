@@ -1,7 +1,7 @@
 //! Progress on stderr for the commands that can run longer than a couple of seconds
-//! (qualify, separate with a Monte Carlo, sine and random on large models, bench, sweep): an
-//! indicatif spinner with the current stage and the elapsed time, redrawn at most a few times
-//! a second. It stays silent with `--quiet`, with `--json` when stdout is not a terminal (the
+//! (qualify, modal and sine and random on large models, separate with a Monte Carlo, bench,
+//! sweep): an indicatif spinner with the current stage and the elapsed time, redrawn at most a
+//! few times a second. It stays silent with `--quiet`, with `--json` when stdout is not a terminal (the
 //! output is piped to a program), and whenever stderr is not a terminal (indicatif draws
 //! nothing there), so logs and pipes never receive spinner frames.
 

@@ -631,19 +631,21 @@ pub fn validate(
         }
     }
     if let Some(m) = &file.margins {
-        for (key, v, lo) in [
-            ("fitting_factor", m.fitting_factor, 1.0),
-            ("separation_factor", m.separation_factor, 1.0),
-            ("slip_factor", m.slip_factor, 1.0),
-            ("yield_factor", m.yield_factor, 1.0),
-            ("ultimate_factor", m.ultimate_factor, 1.0),
+        for (key, v) in [
+            ("fitting_factor", m.fitting_factor),
+            ("separation_factor", m.separation_factor),
+            ("slip_factor", m.slip_factor),
+            ("yield_factor", m.yield_factor),
+            ("ultimate_factor", m.ultimate_factor),
         ] {
-            if v < lo {
+            if v < 1.0 {
                 return Err(loc.err(
                     &format!("margins.{key}"),
-                    format!("a factor of safety must be at least {lo}, got {v}"),
+                    format!("a factor of safety must be at least 1, got {v}"),
                 ));
             }
+            let key = format!("margins.{key}");
+            plausible::check(loc, &key, v, plausible::SAFETY_FACTOR)?;
         }
         if m.friction_coefficient <= 0.0 {
             return Err(loc.err(
@@ -651,6 +653,8 @@ pub fn validate(
                 format!("must be positive, got {}", m.friction_coefficient),
             ));
         }
+        let key = "margins.friction_coefficient";
+        plausible::check(loc, key, m.friction_coefficient, plausible::FRICTION)?;
         for (key, v) in [
             ("preload_uncertainty", m.preload_uncertainty),
             ("preload_loss", m.preload_loss),

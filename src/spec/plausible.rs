@@ -66,6 +66,11 @@ pub const SEPARATION_TIME_S: Range = range(1e-6, 1e5, "s", false);
 pub const BAR_ZETA: Range = range(5e-5, 0.999, "", true);
 /// A frequency of the analysis.
 pub const FREQUENCY_HZ: Range = range(1e-6, 1e7, "Hz", false);
+/// A factor of safety or fitting factor: the standards use 1.0–2.0 (NASA-STD-5001B Table 1,
+/// NASA-STD-5020B); 10 is far beyond any of them.
+pub const SAFETY_FACTOR: Range = range(1.0, 10.0, "", false);
+/// A friction coefficient: lubricated PTFE (~0.04) to clean metal in vacuum (~1.5).
+pub const FRICTION: Range = range(1e-3, 2.0, "", false);
 
 impl Range {
     /// Whether `v` is accepted: finite and inside the range, or exactly 0 where admitted.
