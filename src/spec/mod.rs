@@ -17,11 +17,13 @@ pub mod model;
 pub mod plausible;
 pub mod qualify;
 pub mod separation;
+pub mod shock;
 pub mod stack;
 pub mod sweep;
 
 pub use model::*;
 pub use qualify::{GatesSpec, LogKind, TestLogSpec};
+pub use shock::ShockSpec;
 pub use stack::{InterfaceSpec, StackSpec};
 
 use crate::error::SpecError;
@@ -68,6 +70,9 @@ pub struct SceneFile {
     /// Measured logs to post-process and gate.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub test_log: Vec<TestLogSpec>,
+    /// The shock specification `kind = "shock"` logs are checked against.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shock: Option<ShockSpec>,
     /// The in-orbit release: springs, schedule, contact; the geometry comes from `[stack]` so
     /// that the release and the FE model describe the same hardware.
     #[serde(default)]
@@ -147,6 +152,9 @@ impl Scene {
             &file.test_log,
             &loc,
         )?;
+        if let Some(sh) = &file.shock {
+            shock::validate(sh, &loc)?;
+        }
         analysis::validate(&file, &model, &loc)?;
         if let Some(s) = &file.sweep {
             sweep::validate(s, &loc)?;
