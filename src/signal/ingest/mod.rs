@@ -4,9 +4,9 @@
 //!
 //! The reader checks, and reports with file, line and column: binary content, empty files,
 //! header-only files, unnamed or duplicate columns, ragged rows, cells that are not finite
-//! numbers, a time column that does not increase, and one whose step departs from the sampling
-//! interval (jitter or gaps). With `resample`, such a log is linearly interpolated onto a
-//! uniform grid and the interpolation is reported instead of refused.
+//! numbers, a time column that does not increase, and one with a gap. Jittered timestamps are
+//! read at their mean step and the jitter reported; with `resample` a log is interpolated onto
+//! a uniform grid (anti-aliased onto another rate) and that is reported (`timing.rs`).
 //!
 //! Rows are read in 4 MiB blocks cut at newlines, and each block is split into pieces parsed in
 //! parallel (rayon), handed on in file order: memory stays flat and errors come out exactly as
