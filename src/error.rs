@@ -123,13 +123,20 @@ pub enum SignalError {
         time: f64,
         previous: f64,
     },
-    #[error("{}: line {line}: time step {dt} s departs from the sampling interval {expected_dt} s by more than {tolerance_pct}% (jitter or gap); pass --resample to interpolate onto a uniform grid", file.display())]
+    #[error("{}: line {line}: time step {dt} s departs from the sampling interval {expected_dt} s by more than the {jitter_pct}% read as jitter (a gap, or a change of rate); pass --resample to interpolate onto a uniform grid", file.display())]
     NonUniformTime {
         file: PathBuf,
         line: u64,
         dt: f64,
         expected_dt: f64,
-        tolerance_pct: f64,
+        jitter_pct: f64,
+    },
+    #[error("{}: line {line}: time step {dt} s is less than half the grid interval {expected_dt} s: the log is sampled faster here than the grid, and interpolating would decimate it with no anti-alias filter; pass --resample-fs with the rate wanted", file.display())]
+    ResampleFaster {
+        file: PathBuf,
+        line: u64,
+        dt: f64,
+        expected_dt: f64,
     },
     #[error("{}: line {line}: a gap of {dt} s is more than {max_steps} sampling intervals ({expected_dt} s); it cannot be resampled honestly", file.display())]
     ResampleGap {

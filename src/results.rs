@@ -6,6 +6,7 @@ use crate::gates::Verdict;
 use crate::modal::ModalResult;
 use crate::response::SceneResponse;
 use crate::separation::{MonteCarloResult, Percentiles, SeparationResult};
+use crate::signal::srs::SpecCheck;
 use crate::signal::{Resonance, SignatureReport, ToleranceReport};
 use crate::spec::LogKind;
 use crate::spec::sweep::SweepSpec;
@@ -105,11 +106,25 @@ pub struct TestLogResult {
     pub channels: Vec<(String, f64)>,
     /// Resonances of the FRF control -> first response (sweep and signature logs).
     pub resonances: Vec<Resonance>,
+    /// Shock logs: each channel's peak and its SRS against the scene's `[shock]`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub shock: Vec<ShockChannel>,
     /// Curves for the report: (label, [(f, value)]).
     #[serde(skip)]
     pub curves: Vec<(String, Vec<(f64, f64)>)>,
     #[serde(skip)]
     pub log_scale_y: bool,
+}
+
+/// One channel of a shock log: its peak acceleration and its SRS against the specification.
+#[derive(Debug, Clone, Serialize)]
+pub struct ShockChannel {
+    pub name: String,
+    /// Unit of the peak and the SRS ("g" for accelerations).
+    pub unit: String,
+    pub peak: f64,
+    pub peak_time_s: f64,
+    pub check: SpecCheck,
 }
 
 /// The test-data part of a qualification.

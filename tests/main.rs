@@ -59,6 +59,7 @@ mod signal_psd_cli;
 mod signal_signature;
 mod signal_srs;
 mod signal_sweep;
+mod signal_timing;
 mod signal_welch;
 
 // Hostile input: limits, plausibility, finite outputs, mutation fuzzing.

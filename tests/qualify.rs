@@ -505,3 +505,103 @@ fn results_and_report_carry_the_input_environments_as_applied() {
     assert!(out.join("curves/environment_sine.csv").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The shock scene with `from` replaced by `to`, written to `d`, qualified; (exit code, the
+/// results and stderr).
+fn qualify_shock(d: &Path, from: &str, to: &str) -> (Option<i32>, serde_json::Value, String) {
+    let scene = std::fs::read_to_string("test-specs/test-data-shock.toml")
+        .unwrap()
+        .replace(from, to)
+        .replace(
+            "../data/realdata/",
+            &format!("{}/data/realdata/", env!("CARGO_MANIFEST_DIR")),
+        );
+    std::fs::write(d.join("scene.toml"), scene).unwrap();
+    let out = d.join("report");
+    let o = qualify(&d.join("scene.toml"), &out, None);
+    let v = std::fs::read_to_string(out.join("results.json"))
+        .map_or(serde_json::Value::Null, |t| {
+            serde_json::from_str(&t).unwrap()
+        });
+    (
+        o.status.code(),
+        v,
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+#[test]
+fn shock_log_is_gated_against_the_scene_shock_spec() {
+    // The third-party drop shock (data/realdata/hrshm-pcb-shock) against a spec its SRS
+    // follows: the record's maximax SRS at Q = 10 (62.97 g at 100 Hz, 710.7 g at 2263 Hz,
+    // 487.3 g at 9051 Hz, `satqual srs` ≡ scipy lfilter to 1e-9 in signal_srs) lies within
+    // 2 dB of 60 g at 100 Hz rising to 600 g at 1 kHz, flat to 10 kHz: no point outside ±6 dB.
+    let d = tmp("shock");
+    let out = d.join("report");
+    let o = qualify(Path::new("test-specs/test-data-shock.toml"), &out, None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let gates: Vec<&serde_json::Value> = v["gates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|g| g["name"].as_str().unwrap().contains("SRS"))
+        .collect();
+    assert_eq!(gates.len(), 2);
+    for g in &gates {
+        assert_eq!(
+            (g["group"].as_str(), g["unit"].as_str()),
+            (Some("test_data"), Some("%"))
+        );
+        assert!(g["source"].as_str().unwrap().contains("NASA-STD-7003A"));
+        assert!(g["source"].as_str().unwrap().contains("MIL-STD-810H"));
+        assert_eq!(
+            (g["value"].as_f64(), g["pass"].as_bool()),
+            (Some(0.0), Some(true))
+        );
+    }
+    let c = &v["test_data"]["logs"][0]["shock"][0];
+    // Reference: the peak |a − mean| of the record, 461.81 g at 0.78 ms (SOURCE.md: 485.97 g
+    // raw at t = 0.78 ms; the mean of the 5 ms record is removed first).
+    assert!((c["peak_time_s"].as_f64().unwrap() - 7.8e-4).abs() < 2.1e-5);
+    // 1/6 octave from 100 Hz to 10 kHz: 40 points (the grid stops below 10 kHz·2^(1/12)).
+    assert_eq!(c["check"]["points"].as_array().unwrap().len(), 40);
+    assert!(c["check"]["worst_db"].as_f64().unwrap().abs() < 2.0);
+    assert!(out.join("plots/test_1_srs.svg").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn shock_log_above_its_spec_fails_the_gate_and_without_spec_is_refused() {
+    let d = tmp("shock-fail");
+    // The spec lowered by 20 dB (a factor 10): every point is more than +6 dB above it.
+    let (code, v, err) = qualify_shock(
+        &d,
+        "srs_g = [[100.0, 60.0], [1000.0, 600.0], [10000.0, 600.0]]",
+        "srs_g = [[100.0, 6.0], [1000.0, 60.0], [10000.0, 60.0]]",
+    );
+    assert_eq!(code, Some(1), "{err}");
+    let above = v["gates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|g| g["name"].as_str().unwrap().contains("above +6 dB"))
+        .unwrap();
+    assert_eq!(
+        (above["value"].as_f64(), above["pass"].as_bool()),
+        (Some(100.0), Some(false))
+    );
+    // No [shock]: the log cannot be checked, and the error names the key.
+    let (code, _, err) = qualify_shock(&d, "[shock]", "[unused]");
+    assert_eq!(code, Some(2), "{err}");
+    let (code, _, err) = qualify_shock(
+        &d,
+        "[shock]\nsrs_g = [[100.0, 60.0], [1000.0, 600.0], [10000.0, 600.0]]\nq = 10.0\nper_octave = 6\nupper_db = 6.0\nlower_db = 6.0\nallowed_fraction = 0.0\n",
+        "",
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("kind") && err.contains("[shock]"), "{err}");
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -13,6 +13,7 @@ mod fem;
 mod modal;
 mod modal_sweep;
 mod psd;
+mod psd_srs;
 mod response;
 mod separation;
 

@@ -7,6 +7,8 @@
 //! pandas run at 1e6 and 1e7 only (scipy's Welch holds every segment at once: at 1e8 samples it
 //! would need ~5 GB, and pandas would hold the whole 3 GB file's frame); 1e8 is timed once.
 //! Nothing is installed: without python3/scipy/pandas the peer columns say so.
+//!
+//! The SRS row ([`super::psd_srs`]) is timed in the same run.
 
 use crate::Error;
 use crate::signal::ingest::{IngestOptions, stream_csv};
@@ -41,7 +43,7 @@ fn status_kb(key: &str) -> Option<u64> {
 /// CPU seconds (user + system, all threads) of this process so far, from /proc/self/stat
 /// fields 14 and 15 in clock ticks of 1/100 s (the Linux USER_HZ on every mainstream
 /// architecture). Wall-clock figures swing on a shared machine; CPU time does much less.
-fn cpu_seconds() -> f64 {
+pub(super) fn cpu_seconds() -> f64 {
     let s = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
     // The command name (field 2) may hold spaces: count fields after its closing parenthesis.
     let rest = s.rsplit_once(')').map_or("", |r| r.1);
@@ -111,7 +113,7 @@ out["peak_rss_kb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 print(json.dumps(out))
 "#;
 
-fn python(script: &Path, args: &[&str]) -> Option<Value> {
+pub(super) fn python(script: &Path, args: &[&str]) -> Option<Value> {
     let o = std::process::Command::new("python3")
         .arg(script)
         .args(args)
@@ -130,6 +132,18 @@ fn have_python() -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
+/// Whether the SRS peer can run, or why not.
+fn scipy_available() -> Result<(), &'static str> {
+    match std::process::Command::new("python3")
+        .args(["-c", "import numpy, scipy.signal"])
+        .output()
+    {
+        Err(_) => Err("python3 is not on the PATH"),
+        Ok(o) if !o.status.success() => Err("python3 cannot import numpy and scipy.signal"),
+        Ok(_) => Ok(()),
+    }
+}
+
 /// The table as (JSON, Markdown).
 pub fn run() -> Result<(String, String), Error> {
     let opts = WelchOptions {
@@ -144,6 +158,11 @@ pub fn run() -> Result<(String, String), Error> {
     let script = tmp.join("peer.py");
     std::fs::write(&script, PY).map_err(|e| Error::io(&script, e))?;
     let py = have_python();
+    if !py {
+        eprintln!(
+            "bench psd: no scipy.welch / pandas.read_csv peers: python3 cannot import scipy.signal and pandas"
+        );
+    }
     let threads = rayon::current_num_threads();
     let load_before = std::fs::read_to_string("/proc/loadavg")
         .unwrap_or_default()
@@ -282,6 +301,7 @@ pub fn run() -> Result<(String, String), Error> {
             "csv_read_cpu_ratio_vs_pandas": pandas.as_ref().and_then(|v| v["cpu_seconds"].as_f64()).map(|c| c / read_cpu),
         }));
     }
+    let srs = super::psd_srs::row(&tmp, scipy_available())?;
     let _ = std::fs::remove_dir_all(&tmp);
     let report = json!({
         "what": "Welch PSD throughput, nperseg 8192, Hann, 50% overlap, constant detrend, one channel, fs 8192 Hz",
@@ -291,6 +311,7 @@ pub fn run() -> Result<(String, String), Error> {
         "python_peers": py,
         "reductions": "scipy and pandas run at 1e6 and 1e7 samples only (memory: scipy holds all segments, ~5 GB at 1e8); 1e8 timed once; Welch best of 10 (1e6) and 5 (1e7), CSV best of 5 (1e6) and 2 (1e7), same counts for the peers",
         "rows": rows,
+        "srs": srs,
     });
     let md = markdown(&report);
     Ok((super::to_json(&report)?, md))
@@ -369,6 +390,7 @@ fn markdown(r: &Value) -> String {
             errs.join(", ")
         ));
     }
+    s.push_str(&super::psd_srs::markdown(&r["srs"]));
     s.push_str("\nPeak RSS is VmHWM of this process, reset before each CSV run (/proc/self/clear_refs); the baseline is VmRSS before the run. Peers' peak RSS is in psd.json.\n");
     s
 }

@@ -18,6 +18,9 @@ pub struct LogArgs {
     /// Interpolate a non-uniform time column onto a uniform grid (reported) instead of failing.
     #[arg(long)]
     pub resample: bool,
+    /// Resample onto this rate, Hz, through an anti-alias low-pass (implies --resample).
+    #[arg(long)]
+    pub resample_fs: Option<f64>,
     #[command(flatten)]
     pub dialect: DialectArgs,
 }
@@ -29,8 +32,16 @@ impl LogArgs {
             channels,
             fs: self.fs,
             resample: self.resample,
+            resample_fs: self.resample_fs,
             ..Default::default()
         };
+        if let Some(f) = self.resample_fs
+            && !(f.is_finite() && f > 0.0)
+        {
+            return Err(Error::Other(format!(
+                "--resample-fs {f}: expected a positive rate in Hz"
+            )));
+        }
         parse_units(self.units.as_deref(), &mut opts)?;
         self.dialect.apply(&mut opts)?;
         Ok(opts)

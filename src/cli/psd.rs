@@ -169,9 +169,23 @@ fn summary(args: &Args, run: &PsdRun, wopts: &WelchOptions) -> Vec<String> {
         ));
     }
     if let Some(r) = res.info.as_ref().and_then(|i| i.resampled.as_ref()) {
+        let irregular = match r.irregular_rows {
+            0 => "uniform steps".to_string(),
+            n => format!(
+                "{n} irregular step(s) from line {} (largest {:.6e} s)",
+                r.first_irregular_line, r.largest_step_s
+            ),
+        };
         human.push(format!(
-            "  resampled: {} irregular step(s) from line {} (largest {:.6e} s) -> uniform dt {:.6e} s, {} samples from {} rows",
-            r.irregular_rows, r.first_irregular_line, r.largest_step_s, r.uniform_dt_s, r.output_samples, r.input_rows
+            "  resampled: {irregular} -> uniform dt {:.6e} s, {} samples from {} rows{}",
+            r.uniform_dt_s,
+            r.output_samples,
+            r.input_rows,
+            if r.anti_alias.is_some() {
+                " (anti-aliased)"
+            } else {
+                ""
+            }
         ));
     }
     if let Some((name, t)) = &run.tolerance {

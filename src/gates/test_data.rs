@@ -1,7 +1,9 @@
-//! Test-data gates: the random control against its profile (GSFC-STD-7000 tolerances), and
+//! Test-data gates: the random control against its profile (GSFC-STD-7000 tolerances), a
+//! shock record's SRS against the shock specification (NASA-STD-7003A, MIL-STD-810H 516), and
 //! the pre/post-test signatures mode by mode.
 
 use super::verdict::{Group, Verdict, at_most};
+use crate::signal::srs::SpecCheck;
 use crate::signal::{SignatureReport, ToleranceReport};
 use crate::spec::GatesSpec;
 
@@ -32,6 +34,50 @@ pub fn random_control(log: &str, rep: &ToleranceReport, limits: &GatesSpec) -> [
         )
         .in_group(Group::TestData)
         .with_unit("%"),
+    ]
+}
+
+const SHOCK_SOURCE: &str = "NASA-STD-7003A / MIL-STD-810H Method 516 SRS tolerance, [shock] upper_db, lower_db, allowed_fraction";
+
+/// Channel `channel` of shock log `log`: the share of SRS points above the upper and below the
+/// lower limit, each at most `[shock] allowed_fraction` (margin: allowed − share, so 0 at best
+/// with none allowed). With no SRS point inside the specification's band, nothing was shown
+/// to meet it: one failed gate says so.
+pub fn shock_spec(log: &str, channel: &str, check: &SpecCheck) -> Vec<Verdict> {
+    let name = format!("{log}: {channel} SRS");
+    if check.points.is_empty() {
+        let v = Verdict::gate(
+            format!("{name}: points within the specification's band"),
+            0.0,
+            1.0,
+            -1.0,
+            false,
+            SHOCK_SOURCE,
+        );
+        return vec![v.in_group(Group::TestData)];
+    }
+    let tol = check.tolerance;
+    let share = |label: String, fraction: f64| {
+        Verdict::gate(
+            label,
+            100.0 * fraction,
+            100.0 * tol.allowed_fraction,
+            tol.allowed_fraction - fraction,
+            fraction <= tol.allowed_fraction,
+            SHOCK_SOURCE,
+        )
+        .in_group(Group::TestData)
+        .with_unit("%")
+    };
+    vec![
+        share(
+            format!("{name}: points above +{} dB of the spec [%]", tol.upper_db),
+            check.fraction_above_upper,
+        ),
+        share(
+            format!("{name}: points below −{} dB of the spec [%]", tol.lower_db),
+            check.fraction_below_lower,
+        ),
     ]
 }
 

@@ -9,7 +9,7 @@ use crate::separation::order_stats;
 use crate::signal::{Detrend, IngestOptions, WelchOptions, Window};
 use crate::spec::analysis::{RandomSpec, SineSpec, axis_index};
 use crate::spec::separation::RunsWanted;
-use crate::spec::{GatesSpec, LogKind, Scene, SolverChoice, TestLogSpec};
+use crate::spec::{GatesSpec, LogKind, Scene, ShockSpec, SolverChoice, TestLogSpec};
 use std::path::PathBuf;
 
 /// Resonances `qualify` takes from a sweep or before-signature log: the modes to watch.
@@ -71,6 +71,8 @@ pub struct TestLogPlan {
     pub profile: Option<Vec<(f64, f64)>>,
     /// Sweep and signature logs: the most prominent resonances kept.
     pub max_peaks: usize,
+    /// Shock logs: the scene's `[shock]` specification.
+    pub shock: Option<ShockSpec>,
 }
 
 /// Command-line overrides of `[modal]`; they take precedence over the scene.
@@ -320,7 +322,15 @@ pub fn test_log(scene: &Scene, index: usize, t: &TestLogSpec) -> Result<TestLogP
         LogKind::Random => profile(scene, t).map_err(|msg| loc.err(&key("profile"), msg))?,
         _ => None,
     };
-    if t.kind != LogKind::Random && t.responses.is_empty() {
+    let shock = match t.kind {
+        LogKind::Shock => Some(scene.file.shock.clone().ok_or_else(|| {
+            let msg = "a shock log is checked against the scene's [shock] specification; add [shock] with srs_g";
+            loc.err(&key("kind"), msg)
+        })?),
+        _ => None,
+    };
+    let frf = !matches!(t.kind, LogKind::Random | LogKind::Shock);
+    if frf && t.responses.is_empty() {
         let msg = "an FRF needs at least one response channel";
         return Err(loc.err(&key("responses"), msg).into());
     }
@@ -344,6 +354,7 @@ pub fn test_log(scene: &Scene, index: usize, t: &TestLogSpec) -> Result<TestLogP
             }
             _ => SIGNATURE_MODES,
         },
+        shock,
     })
 }
 

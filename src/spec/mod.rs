@@ -18,11 +18,13 @@ pub mod model;
 pub mod plausible;
 pub mod qualify;
 pub mod separation;
+pub mod shock;
 pub mod stack;
 pub mod sweep;
 
 pub use model::*;
 pub use qualify::{GatesSpec, LogKind, TestLogSpec};
+pub use shock::ShockSpec;
 pub use stack::{InterfaceSpec, StackSpec};
 
 use crate::error::SpecError;
@@ -78,6 +80,9 @@ pub struct SceneFile {
     /// The correlation's frequency standard and the logs its modes are identified from.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correlation: Option<correlation::CorrelationSpec>,
+    /// The shock specification `kind = "shock"` logs are checked against.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shock: Option<ShockSpec>,
     /// The in-orbit release: springs, schedule, contact; the geometry comes from `[stack]` so
     /// that the release and the FE model describe the same hardware.
     #[serde(default)]
@@ -160,6 +165,9 @@ impl Scene {
             &file.test_log,
             &loc,
         )?;
+        if let Some(sh) = &file.shock {
+            shock::validate(sh, &loc)?;
+        }
         analysis::validate(&file, &model, &loc)?;
         if let Some(s) = &file.sweep {
             sweep::validate(s, &loc)?;

@@ -63,6 +63,8 @@ pub enum LogKind {
     SineSweep,
     SignatureBefore,
     SignatureAfter,
+    /// A shock record: its SRS against the scene's `[shock]` specification.
+    Shock,
 }
 
 /// One measured log handed over by the shaker lab.
@@ -73,7 +75,7 @@ pub struct TestLogSpec {
     /// CSV or UFF58 file, relative to the scene file.
     pub file: String,
     pub kind: LogKind,
-    /// The control (input) channel.
+    /// The control (input) channel; for a shock log, the channel checked against `[shock]`.
     pub control: String,
     #[serde(default)]
     pub responses: Vec<String>,

@@ -1,14 +1,18 @@
-//! The test-data workflow of `qualify`: every planned `[[test_log]]` through the PSD or FRF
-//! workflow, the random control against its profile, the pre/post signatures compared, and
-//! the curves the report plots.
+//! The test-data workflow of `qualify`: every planned `[[test_log]]` through the PSD, FRF or
+//! SRS workflow, the random control against its profile, a shock record against the shock
+//! specification, the pre/post signatures compared, and the curves the report plots.
 
 use super::frf::{self, FrfRequest};
 use super::psd::{self, PsdRequest};
 use crate::error::Error;
 use crate::gates::{self, Verdict};
 use crate::pipeline::plan::TestLogPlan;
-use crate::results::{TestDataSummary, TestLogResult};
-use crate::signal::{self as sg, PeakOptions, Resonance, SignatureCriteria, ToleranceSpec};
+use crate::results::{ShockChannel, TestDataSummary, TestLogResult};
+use crate::signal::srs::{SpecTolerance, check_against_spec};
+use crate::signal::{
+    self as sg, Offset, PeakOptions, Resonance, SignatureCriteria, SrsOptions, ToleranceSpec,
+};
+use crate::spec::ShockSpec;
 use crate::spec::{GatesSpec, Locator, LogKind};
 
 /// Curve points of the tolerance bands drawn around a profile.
@@ -26,6 +30,7 @@ pub fn run(
     for log in logs {
         let res = match log.kind {
             LogKind::Random => random_log(log, limits, loc, &mut verdicts)?,
+            LogKind::Shock => shock_log(log, loc, &mut verdicts)?,
             _ => frf_log(log)?,
         };
         match log.kind {
@@ -56,6 +61,7 @@ fn empty_result(log: &TestLogPlan) -> TestLogResult {
         tolerance: None,
         channels: Vec::new(),
         resonances: Vec::new(),
+        shock: Vec::new(),
         curves: Vec::new(),
         log_scale_y: true,
     }
@@ -143,6 +149,80 @@ fn tolerance_curves(profile: &[(f64, f64)], limits: &GatesSpec) -> Vec<(String, 
         (format!("−{alarm} dB alarm"), band(-alarm)),
         (format!("+{abort} dB abort"), band(abort)),
         (format!("−{abort} dB abort"), band(-abort)),
+    ]
+}
+
+/// A shock log: the SRS of the control and of each response over the specification's band
+/// (mean removed), each checked against the scene's `[shock]`.
+fn shock_log(
+    log: &TestLogPlan,
+    loc: &Locator,
+    verdicts: &mut Vec<Verdict>,
+) -> Result<TestLogResult, Error> {
+    let spec = log.shock.as_ref().ok_or_else(|| {
+        let key = format!("test_log[{}].kind", log.index);
+        loc.err(&key, "a shock log needs the scene's [shock] specification")
+    })?;
+    let points = spec.breakpoints();
+    let mut ingest = log.ingest.clone();
+    let mut channels = vec![log.control.clone()];
+    channels.extend(log.responses.iter().cloned());
+    ingest.channels = Some(channels);
+    let opts = SrsOptions {
+        q: spec.q,
+        fmin_hz: points[0].0,
+        fmax_hz: points[points.len() - 1].0,
+        per_octave: spec.per_octave,
+        offset: Offset::Mean,
+    };
+    let srs = sg::srs_of_file(&log.path, &ingest, &opts)?;
+    let tol = shock_tolerance(spec);
+    let mut res = empty_result(log);
+    for c in srs.channels {
+        let check = check_against_spec(&c.srs, &points, tol);
+        verdicts.extend(gates::test_data::shock_spec(&log.name, &c.name, &check));
+        let maximax = c.srs.iter().map(|p| (p.frequency_hz, p.maximax)).collect();
+        res.curves
+            .push((format!("{} SRS maximax, Q = {}", c.name, spec.q), maximax));
+        res.shock.push(ShockChannel {
+            name: c.name,
+            unit: c.unit,
+            peak: c.peak,
+            peak_time_s: c.peak_time_s,
+            check,
+        });
+    }
+    res.curves.extend(shock_spec_curves(&points, tol));
+    Ok(res)
+}
+
+fn shock_tolerance(spec: &ShockSpec) -> SpecTolerance {
+    SpecTolerance {
+        upper_db: spec.upper_db,
+        lower_db: spec.lower_db,
+        allowed_fraction: spec.allowed_fraction,
+    }
+}
+
+/// The shock specification and its upper and lower limits (an SRS is an amplitude: 20 dB per
+/// decade), on a log grid over its band.
+fn shock_spec_curves(points: &[(f64, f64)], tol: SpecTolerance) -> Vec<(String, Vec<(f64, f64)>)> {
+    let (lo, hi) = (points[0].0, points[points.len() - 1].0);
+    let band = |db: f64| -> Vec<(f64, f64)> {
+        crate::response::grid::log_n(lo, hi, BAND_POINTS)
+            .into_iter()
+            .map(|x| {
+                (
+                    x,
+                    crate::units::loglog_interp(points, x) * 10f64.powf(db / 20.0),
+                )
+            })
+            .collect()
+    };
+    vec![
+        ("shock spec".into(), band(0.0)),
+        (format!("+{} dB", tol.upper_db), band(tol.upper_db)),
+        (format!("−{} dB", tol.lower_db), band(-tol.lower_db)),
     ]
 }
 

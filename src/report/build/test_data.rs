@@ -29,6 +29,23 @@ fn log_item(log: &TestLogResult) -> ListItem {
             .code(log.file.clone())
             .and(format!(", {:?}): {}", log.kind, channels.join(", "))),
     );
+    for c in &log.shock {
+        let k = &c.check;
+        item.details.push(Text::plain(format!(
+            "{}: peak {:.1} {} at {:.3} ms; SRS {:.1}% of {} points above +{} dB, {:.1}% below −{} dB of the spec; worst {:+.2} dB at {:.0} Hz",
+            c.name,
+            c.peak,
+            c.unit,
+            c.peak_time_s * 1e3,
+            k.fraction_above_upper * 100.0,
+            k.points.len(),
+            k.tolerance.upper_db,
+            k.fraction_below_lower * 100.0,
+            k.tolerance.lower_db,
+            k.worst_db,
+            k.worst_hz
+        )));
+    }
     if let Some(t) = &log.tolerance {
         item.details.push(Text::plain(format!(
             "tolerance: {:.2}% of lines beyond ±{} dB (alarm), {:.2}% beyond ±{} dB (abort); worst {:+.2} dB at {:.0} Hz; Grms {:.4} against {:.4} ({:+.2}%)",

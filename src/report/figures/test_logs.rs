@@ -1,11 +1,13 @@
-//! The measured logs: an FRF log as |H1| and coherence, any other as its PSDs against the
-//! reference profile and tolerance bands.
+//! The measured logs: an FRF log as |H1| and coherence, a shock log as its SRS against the
+//! shock specification, any other as its PSDs against the reference profile and tolerance
+//! bands.
 
 use super::{Files, csv};
 use crate::error::Error;
 use crate::report::document::Figure;
 use crate::report::plot::{Options, Scale, Series, chart_svg, lines_svg};
 use crate::report::{TestDataSummary, TestLogResult};
+use crate::spec::LogKind;
 
 /// The curve an FRF log carries beside its |H1|; its presence marks the log as an FRF.
 const COHERENCE: &str = "coherence";
@@ -15,7 +17,9 @@ pub fn figures(td: &TestDataSummary, files: &mut Files) -> Result<Vec<Figure>, E
     for (k, log) in td.logs.iter().enumerate() {
         let stem = format!("test_{}", k + 1);
         push_curves(&stem, log, files);
-        if log.curves.iter().any(|(l, _)| l == COHERENCE) {
+        if log.kind == LogKind::Shock {
+            figs.push(srs(&stem, log)?);
+        } else if log.curves.iter().any(|(l, _)| l == COHERENCE) {
             figs.push(frf(&stem, log)?);
             figs.push(coherence(&stem, log)?);
         } else {
@@ -86,6 +90,24 @@ fn coherence(stem: &str, log: &TestLogResult) -> Result<Figure, Error> {
             &series(log, |l| l == COHERENCE),
             &[],
             opts,
+        )?,
+    })
+}
+
+fn srs(stem: &str, log: &TestLogResult) -> Result<Figure, Error> {
+    Ok(Figure {
+        stem: format!("{stem}_srs"),
+        caption: format!(
+            "{}: shock response spectrum against the shock specification and its tolerance ({})",
+            log.name, log.file
+        ),
+        svg: lines_svg(
+            &format!("{}: SRS", log.name),
+            "natural frequency [Hz]",
+            "SRS maximax [g]",
+            &series(log, |_| true),
+            Scale::Log,
+            Scale::Log,
         )?,
     })
 }

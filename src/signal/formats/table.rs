@@ -249,6 +249,7 @@ pub fn table_to_log(path: &Path, t: Table, opts: &IngestOptions) -> Result<Log, 
             time_unit,
             ignored_columns: t.ignored,
             metadata: Vec::new(),
+            jitter: None,
             notes,
         },
     };

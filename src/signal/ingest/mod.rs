@@ -4,9 +4,9 @@
 //!
 //! The reader checks, and reports with file, line and column: binary content, empty files,
 //! header-only files, unnamed or duplicate columns, ragged rows, cells that are not finite
-//! numbers, a time column that does not increase, and one whose step departs from the sampling
-//! interval (jitter or gaps). With `resample`, such a log is linearly interpolated onto a
-//! uniform grid and the interpolation is reported instead of refused.
+//! numbers, a time column that does not increase, and one with a gap. Jittered timestamps are
+//! read at their mean step and the jitter reported; with `resample` a log is interpolated onto
+//! a uniform grid (anti-aliased onto another rate) and that is reported (`timing.rs`).
 //!
 //! Rows are read in 4 MiB blocks cut at newlines, and each block is split into pieces parsed in
 //! parallel (rayon), handed on in file order: memory stays flat and errors come out exactly as
@@ -14,17 +14,22 @@
 //! a block holding a quote goes through the `csv` crate. A quoted field with an embedded
 //! newline is not supported (numeric logs have none). Numbers are parsed by `fast-float2`.
 
+pub mod bandlimit;
 pub mod iso8601;
 mod plausible_rate;
 pub mod sniff;
 mod time_unit;
+mod timing;
 
 use crate::error::SignalError;
+pub use bandlimit::AntiAliasReport;
 pub use plausible_rate::{PLAUSIBLE_FS_HZ, plausible_rate};
 use sniff::{Delimiter, Dialect};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 pub use time_unit::{TimeUnit, time_column_unit};
+pub use timing::{JITTER_LIMIT, JitterReport};
+use timing::{Timing, TimingOutcome};
 
 /// Physical unit of a channel, as found in its name or given by the caller.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -108,6 +113,8 @@ pub struct IngestOptions {
     pub channel_units: Vec<(String, Unit)>,
     /// Interpolate a non-uniform time column onto a uniform grid instead of failing.
     pub resample: bool,
+    /// Resample onto this rate, Hz, through an anti-alias low-pass (implies `resample`).
+    pub resample_fs: Option<f64>,
     /// Allowed departure of one time step from the sampling interval, as a fraction of it.
     pub jitter_tolerance: f64,
     /// Column names for a headerless file (or replacing the header's).
@@ -126,6 +133,7 @@ impl Default for IngestOptions {
             default_unit: None,
             channel_units: Vec::new(),
             resample: false,
+            resample_fs: None,
             jitter_tolerance: 0.01,
             columns: None,
             time_unit: None,
@@ -156,6 +164,8 @@ pub struct ResampleReport {
     pub largest_step_s: f64,
     pub input_rows: u64,
     pub output_samples: u64,
+    /// The low-pass applied when resampling onto another rate.
+    pub anti_alias: Option<AntiAliasReport>,
 }
 
 /// Description of a log once read.
@@ -183,6 +193,8 @@ pub struct IngestRecord {
     pub ignored_columns: Vec<String>,
     /// Metadata columns holding one value, e.g. a sample rate.
     pub metadata: Vec<(String, f64)>,
+    /// Steps of the time column varying around their mean, when they do.
+    pub jitter: Option<JitterReport>,
     /// One line per decision that departs from a plain comma CSV, for stderr.
     #[serde(skip)]
     pub notes: Vec<String>,
@@ -377,19 +389,57 @@ pub fn stream_csv(
             file: fpath.clone(),
         });
     }
-    let (fs_hz, samples, resampled) = match time_col {
+    let outcome = match time_col {
         Some(_) => timing.finish(&mut sink)?,
-        None => (opts.fs.unwrap_or(1.0), rows, None),
+        None if opts.resample_fs.is_some() => {
+            return Err(SignalError::Unsupported {
+                file: fpath,
+                message: "--resample-fs needs a time column to resample through".into(),
+            });
+        }
+        None => TimingOutcome {
+            fs_hz: opts.fs.unwrap_or(1.0),
+            samples: rows,
+            resampled: None,
+            jitter: None,
+        },
     };
+    let mut record = plan.record;
+    record.notes.extend(timing_notes(&fpath, &outcome));
+    record.jitter = outcome.jitter;
     Ok(LogInfo {
         file: fpath,
         channels,
         time_column: time_col.map(|i| header[i].clone()),
-        fs_hz,
-        samples,
-        resampled,
-        ingest: plan.record,
+        fs_hz: outcome.fs_hz,
+        samples: outcome.samples,
+        resampled: outcome.resampled,
+        ingest: record,
     })
+}
+
+/// The stderr lines for jitter and for an anti-alias filter, once each.
+fn timing_notes(file: &Path, t: &TimingOutcome) -> Vec<String> {
+    let f = file.display();
+    let mut notes = Vec::new();
+    if let Some(j) = &t.jitter {
+        let how = if t.resampled.is_some() {
+            "interpolated through the timestamps"
+        } else {
+            "analysed at the mean step"
+        };
+        notes.push(format!(
+            "{f}: time steps jitter from line {} ({} step(s) off the interval; RMS {:.2}%, largest {:.2}% of the mean step {:.6e} s): {how}",
+            j.first_jittered_line, j.jittered_steps, j.rms_deviation_pct, j.max_deviation_pct, j.mean_step_s
+        ));
+    }
+    if let Some(a) = t.resampled.as_ref().and_then(|r| r.anti_alias.as_ref()) {
+        notes.push(format!(
+            "{f}: resampled to {} Hz through an anti-alias low-pass ({}, {} taps): flat to {} Hz, {} dB down from {} Hz",
+            t.fs_hz, a.filter, a.taps, a.passband_hz, a.stopband_attenuation_db, a.stopband_hz
+        ));
+    }
+    notes
 }
 
 /// The dialect of a log: sniffed from its head, or plain CSV with the header on line 1.
@@ -627,6 +677,7 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
         time_unit,
         ignored_columns: ignored.iter().map(|&i| column_label(&header, i)).collect(),
         metadata,
+        jitter: None,
         notes,
     };
     Ok(ColumnPlan {
@@ -1254,231 +1305,6 @@ fn read_rows(
         if eof {
             return Ok(());
         }
-    }
-}
-
-/// Rows kept before the sampling interval is fixed: the median of their steps is robust to one
-/// odd step at the start of the log.
-const PRIME_ROWS: usize = 33;
-
-/// Largest relative difference between `--fs` and the rate of the time column.
-const FS_AGREEMENT: f64 = 1e-3;
-
-/// Largest step, in sampling intervals, that `resample` bridges by interpolation.
-const MAX_RESAMPLE_GAP: f64 = 100.0;
-
-/// Time-column checks and, with `resample`, streaming linear interpolation onto a uniform grid.
-struct Timing {
-    file: PathBuf,
-    resample: bool,
-    tol: f64,
-    fs_option: Option<f64>,
-    primed: Vec<(f64, u64, Vec<f64>)>,
-    dt: f64,
-    t0: f64,
-    prev: Option<f64>,
-    prev_row: Vec<f64>,
-    rows: u64,
-    emitted: u64,
-    irregular: u64,
-    first_irregular: u64,
-    largest: f64,
-    last_t: f64,
-    out: Vec<f64>,
-}
-
-impl Timing {
-    fn new(opts: &IngestOptions, file: PathBuf) -> Timing {
-        Timing {
-            file,
-            resample: opts.resample,
-            tol: opts.jitter_tolerance,
-            fs_option: opts.fs,
-            primed: Vec::new(),
-            dt: 0.0,
-            t0: 0.0,
-            prev: None,
-            prev_row: Vec::new(),
-            rows: 0,
-            emitted: 0,
-            irregular: 0,
-            first_irregular: 0,
-            largest: 0.0,
-            last_t: 0.0,
-            out: Vec::new(),
-        }
-    }
-
-    fn push(
-        &mut self,
-        t: f64,
-        line: u64,
-        row: &[f64],
-        sink: &mut impl FnMut(&[f64]),
-    ) -> Result<(), SignalError> {
-        if let Some(pt) = self.primed.last().map(|p| p.0).or(self.prev)
-            && t <= pt
-        {
-            return Err(SignalError::NonMonotonicTime {
-                file: self.file.clone(),
-                line,
-                time: t,
-                previous: pt,
-            });
-        }
-        self.rows += 1;
-        self.last_t = t;
-        if self.dt == 0.0 {
-            self.primed.push((t, line, row.to_vec()));
-            if self.primed.len() == PRIME_ROWS {
-                self.start(sink)?;
-            }
-            return Ok(());
-        }
-        self.accept(t, line, row, sink)
-    }
-
-    fn start(&mut self, sink: &mut impl FnMut(&[f64])) -> Result<(), SignalError> {
-        let primed = std::mem::take(&mut self.primed);
-        let mut steps: Vec<f64> = primed.windows(2).map(|w| w[1].0 - w[0].0).collect();
-        steps.sort_by(|a, b| a.total_cmp(b));
-        // Steps are checked against the time column's own interval; `--fs` is compared with
-        // the whole span at the end, where rounding of the times no longer matters.
-        self.dt = match (steps.get(steps.len() / 2), self.fs_option) {
-            (Some(&dt), _) => dt,
-            (None, Some(fs)) => 1.0 / fs,
-            (None, None) => 1.0,
-        };
-        if !(self.dt.is_finite() && self.dt > 0.0) {
-            return Err(SignalError::NoSamplingRate {
-                file: self.file.clone(),
-            });
-        }
-        self.t0 = primed.first().map_or(0.0, |p| p.0);
-        for (t, line, row) in primed {
-            self.accept(t, line, &row, sink)?;
-        }
-        Ok(())
-    }
-
-    fn accept(
-        &mut self,
-        t: f64,
-        line: u64,
-        row: &[f64],
-        sink: &mut impl FnMut(&[f64]),
-    ) -> Result<(), SignalError> {
-        let Some(pt) = self.prev else {
-            sink(row);
-            self.emitted = 1;
-            self.prev = Some(t);
-            self.prev_row.clear();
-            self.prev_row.extend_from_slice(row);
-            return Ok(());
-        };
-        let step = t - pt;
-        let off = (step - self.dt).abs() > self.tol * self.dt;
-        if off {
-            if !self.resample {
-                return Err(SignalError::NonUniformTime {
-                    file: self.file.clone(),
-                    line,
-                    dt: step,
-                    expected_dt: self.dt,
-                    tolerance_pct: self.tol * 100.0,
-                });
-            }
-            // Interpolating across a gap of many intervals would invent data (and a gap of
-            // 1e9 intervals would never end): refuse it.
-            if step.is_nan() || step > MAX_RESAMPLE_GAP * self.dt {
-                return Err(SignalError::ResampleGap {
-                    file: self.file.clone(),
-                    line,
-                    dt: step,
-                    expected_dt: self.dt,
-                    max_steps: MAX_RESAMPLE_GAP,
-                });
-            }
-            if self.irregular == 0 {
-                self.first_irregular = line;
-            }
-            self.irregular += 1;
-        }
-        self.largest = self.largest.max(step);
-        if self.resample {
-            // Emit every grid time in (pt, t] by linear interpolation between the two rows.
-            loop {
-                let tg = self.t0 + self.emitted as f64 * self.dt;
-                if tg > t + 1e-9 * self.dt {
-                    break;
-                }
-                let a = ((tg - pt) / step).clamp(0.0, 1.0);
-                self.out.clear();
-                self.out
-                    .extend(self.prev_row.iter().zip(row).map(|(p, v)| p + a * (v - p)));
-                sink(&self.out);
-                self.emitted += 1;
-            }
-        } else {
-            sink(row);
-            self.emitted += 1;
-        }
-        self.prev = Some(t);
-        self.prev_row.clear();
-        self.prev_row.extend_from_slice(row);
-        Ok(())
-    }
-
-    fn finish(
-        mut self,
-        sink: &mut impl FnMut(&[f64]),
-    ) -> Result<(f64, u64, Option<ResampleReport>), SignalError> {
-        if self.dt == 0.0 {
-            if self.primed.len() < 2 && self.fs_option.is_none() {
-                return Err(SignalError::NoSamplingRate {
-                    file: self.file.clone(),
-                });
-            }
-            self.start(sink)?;
-        }
-        let fs = if self.resample && self.irregular > 0 {
-            1.0 / self.dt
-        } else if let Some(fs) = self.fs_option {
-            // The caller's rate wins, but it must describe the same log.
-            if self.rows > 1 {
-                let from_time = (self.rows - 1) as f64 / (self.last_t - self.t0);
-                if (from_time - fs).abs() > FS_AGREEMENT * fs {
-                    return Err(SignalError::BadParameter {
-                        name: "fs",
-                        value: fs.to_string(),
-                        reason: format!(
-                            "--fs {fs} Hz disagrees with the time column of {}, which gives {from_time:.6} Hz (more than {}%); drop --fs, or pass --fs-override to use --fs and ignore the time column",
-                            self.file.display(),
-                            FS_AGREEMENT * 100.0
-                        ),
-                    });
-                }
-            }
-            fs
-        } else {
-            // The span of a uniform log fixes the rate better than one rounded step.
-            (self.rows - 1) as f64 / (self.last_t - self.t0)
-        };
-        if !(fs.is_finite() && fs > 0.0) {
-            return Err(SignalError::NoSamplingRate {
-                file: self.file.clone(),
-            });
-        }
-        let fs = plausible_rate(&self.file, fs, "the time column or --fs")?;
-        let report = (self.resample && self.irregular > 0).then_some(ResampleReport {
-            uniform_dt_s: self.dt,
-            irregular_rows: self.irregular,
-            first_irregular_line: self.first_irregular,
-            largest_step_s: self.largest,
-            input_rows: self.rows,
-            output_samples: self.emitted,
-        });
-        Ok((fs, self.emitted, report))
     }
 }
 
