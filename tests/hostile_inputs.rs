@@ -110,6 +110,16 @@ fn uff_psd_starting_at_1e15_hz_is_refused_not_zero_filled() {
         err.contains("far.uff: line 2:") && err.contains("above the limit of 16777216"),
         "{err}"
     );
+    // The limit is a flag: lowered below the 3201 lines of a real record, it refuses it.
+    let real = "data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff";
+    let (code, _, err) = run_text(&["psd", real, "--max-psd-lines", "3200"], None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("above the limit of 3200") && err.contains("--max-psd-lines"),
+        "{err}"
+    );
+    let (code, _, err) = run_text(&["psd", real, "--max-psd-lines", "3201"], None);
+    assert_eq!(code, 0, "{err}");
 }
 
 #[test]

@@ -21,6 +21,10 @@ pub struct LogArgs {
     /// Resample onto this rate, Hz, through an anti-alias low-pass (implies --resample).
     #[arg(long)]
     pub resample_fs: Option<f64>,
+    /// Most spectral lines, from 0 Hz, of a PSD record read from a UFF file (a larger record
+    /// is refused before anything is allocated).
+    #[arg(long, default_value_t = satqual::signal::logpsd::MAX_PSD_LINES)]
+    pub max_psd_lines: usize,
     #[command(flatten)]
     pub dialect: DialectArgs,
 }
@@ -33,6 +37,7 @@ impl LogArgs {
             fs: self.fs,
             resample: self.resample,
             resample_fs: self.resample_fs,
+            max_psd_lines: self.max_psd_lines,
             ..Default::default()
         };
         if let Some(f) = self.resample_fs

@@ -260,11 +260,12 @@ fn psd_of_uff(
                 // The lines below the first are zero-filled: a start far above the spacing
                 // (a mutated header) would ask for an absurd allocation.
                 let lines = offset + r.re.len() as f64;
-                if lines > MAX_PSD_LINES as f64 {
+                let limit = ingest.max_psd_lines;
+                if lines > limit as f64 {
                     return Err(SignalError::Uff {
                         file: path.to_path_buf(),
                         line: r.line,
-                        message: format!("the PSD starts at {first} Hz with a {step} Hz spacing: {lines:e} spectral lines from 0 Hz, above the limit of {MAX_PSD_LINES}"),
+                        message: format!("the PSD starts at {first} Hz with a {step} Hz spacing: {lines:e} spectral lines from 0 Hz, above the limit of {limit}; if the record is meant, raise --max-psd-lines"),
                     });
                 }
                 if let Some(v) = r.re.iter().find(|v| **v < 0.0) {

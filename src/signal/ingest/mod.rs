@@ -123,6 +123,9 @@ pub struct IngestOptions {
     pub time_unit: Option<TimeUnit>,
     /// `fs` wins over a time column that disagrees with it (the time column is then ignored).
     pub fs_override: bool,
+    /// Most spectral lines, counted from 0 Hz, a PSD record read from a file may span
+    /// (`--max-psd-lines`; default [`crate::signal::logpsd::MAX_PSD_LINES`]).
+    pub max_psd_lines: usize,
 }
 
 impl Default for IngestOptions {
@@ -138,6 +141,7 @@ impl Default for IngestOptions {
             columns: None,
             time_unit: None,
             fs_override: false,
+            max_psd_lines: crate::signal::logpsd::MAX_PSD_LINES,
         }
     }
 }
