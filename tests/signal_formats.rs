@@ -203,6 +203,12 @@ fn lvm_from_the_command_line_is_read_by_its_header() {
         .map(|c| c["name"].as_str().unwrap())
         .collect();
     assert_eq!(names, ["ax", "ay", "az"]);
+    // The reader's decisions, in the JSON and on stderr: tab-separated, the header states no
+    // decimal separator so the point is taken, time from the X column.
+    assert_eq!(v["ingest"]["delimiter"], "tab");
+    assert_eq!(v["ingest"]["decimal"], ".");
+    assert_eq!(v["ingest"]["time_column"], "X_Value");
+    assert!(err.contains("LabVIEW .lvm"), "{err}");
     let (code, _, err) = run_text(&["psd", path, "--json"], None);
     assert_eq!(code, 2, "{err}");
     assert!(

@@ -66,6 +66,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         offset: Offset::parse(&args.offset)?,
     };
     let res = srs_of_file(&args.log, &ingest, &opts)?;
+    if let Some(record) = &res.ingest {
+        super::log_args::print_notes(&record.notes);
+    }
     let checks = match &args.spec {
         Some(path) => spec_checks(path, &res, &args)?,
         None => Vec::new(),
@@ -98,6 +101,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "options": res.options,
         "residual_samples": res.residual_samples,
         "channels": res.channels,
+        "ingest": res.ingest,
         "spec": checks.iter().map(|(n, c)| json!({"channel": n, "check": c})).collect::<Vec<_>>(),
         "pass": pass,
     }))?;

@@ -5,7 +5,7 @@
 use super::{Offset, SrsOptions, SrsPoint, natural_frequencies, peak, pre_shock_mean, srs};
 use crate::error::SignalError;
 use crate::signal::formats::read_log;
-use crate::signal::ingest::{IngestOptions, Unit};
+use crate::signal::ingest::{IngestOptions, IngestRecord, Unit};
 use crate::signal::uff::{looks_like_uff, read_uff58};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -35,6 +35,9 @@ pub struct LogSrs {
     /// Zero samples appended for the residual spectrum (one damped period of fmin).
     pub residual_samples: usize,
     pub channels: Vec<ChannelSrs>,
+    /// The reader's decisions about a text, LabVIEW or MATLAB log (none for a UFF file,
+    /// whose records state everything).
+    pub ingest: Option<IngestRecord>,
 }
 
 /// Reads `path` and computes the spectrum of every selected channel.
@@ -44,7 +47,7 @@ pub fn srs_of_file(
     opts: &SrsOptions,
 ) -> Result<LogSrs, SignalError> {
     opts.validate()?;
-    let (fs_hz, records) = read_records(path, ingest)?;
+    let (fs_hz, records, record) = read_records(path, ingest)?;
     let freqs = natural_frequencies(opts.fmin_hz, opts.fmax_hz, opts.per_octave);
     let channels = records
         .into_iter()
@@ -56,6 +59,7 @@ pub fn srs_of_file(
         options: *opts,
         residual_samples: super::residual_samples(opts.fmin_hz, opts.q, 1.0 / fs_hz),
         channels,
+        ingest: record,
     })
 }
 
@@ -103,9 +107,13 @@ fn channel_srs(
 type Records = Vec<(String, Unit, Vec<f64>)>;
 
 /// The selected channels of a CSV log or a UFF58 file, in the reported unit, and the rate.
-fn read_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records), SignalError> {
+fn read_records(
+    path: &Path,
+    ingest: &IngestOptions,
+) -> Result<(f64, Records, Option<IngestRecord>), SignalError> {
     if looks_like_uff(path) {
-        return read_uff_records(path, ingest);
+        let (fs, records) = read_uff_records(path, ingest)?;
+        return Ok((fs, records, None));
     }
     let log = read_log(path, ingest)?;
     let records = log
@@ -115,7 +123,7 @@ fn read_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records), S
         .zip(log.data)
         .map(|(c, x)| (c.name.clone(), c.unit, x))
         .collect();
-    Ok((log.info.fs_hz, records))
+    Ok((log.info.fs_hz, records, Some(log.info.ingest)))
 }
 
 fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records), SignalError> {
