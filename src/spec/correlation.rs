@@ -172,6 +172,8 @@ fn validate_test_modes(
             let msg = format!("must be positive, got {}", m.frequency_hz);
             return Err(loc.err(&key("frequency_hz"), msg));
         }
+        let (k, f) = (key("frequency_hz"), m.frequency_hz);
+        super::plausible::check(loc, &k, f, super::plausible::FREQUENCY_HZ)?;
         if let Some(z) = m.damping_ratio
             && !(0.0..1.0).contains(&z)
         {

@@ -78,7 +78,7 @@ impl Range {
         (self.zero && v == 0.0) || (self.lo..=self.hi).contains(&v)
     }
 
-    fn describe(&self) -> String {
+    pub fn describe(&self) -> String {
         let unit = if self.unit.is_empty() {
             String::new()
         } else {

@@ -927,10 +927,18 @@ fn validate_shock_points(points: &[[f64; 2]], loc: &Locator) -> Result<(), SpecE
         ));
     }
     for (i, p) in points.iter().enumerate() {
-        if !(p[0].is_finite() && p[0] > 0.0 && p[1].is_finite() && p[1] > 0.0) {
+        if !(super::plausible::FREQUENCY_HZ.admits(p[0])
+            && super::plausible::ACCELERATION_G.admits(p[1]))
+        {
             return Err(loc.err(
                 &format!("separation.shock.spec_g[{i}]"),
-                format!("[{}, {}] must be positive and finite", p[0], p[1]),
+                format!(
+                    "[{}, {}] is outside the plausible ranges {} and {} (see docs/robustness.md)",
+                    p[0],
+                    p[1],
+                    super::plausible::FREQUENCY_HZ.describe(),
+                    super::plausible::ACCELERATION_G.describe()
+                ),
             ));
         }
         if i > 0 && p[0] <= points[i - 1][0] {

@@ -54,12 +54,16 @@ pub fn validate(s: &ShockSpec, loc: &Locator) -> Result<(), SpecError> {
         return Err(loc.err("shock.srs_g", "needs at least two [f_hz, g] breakpoints"));
     }
     for (i, p) in s.srs_g.iter().enumerate() {
-        if !(p[0].is_finite() && p[0] > 0.0 && p[1].is_finite() && p[1] > 0.0) {
+        if !(super::plausible::FREQUENCY_HZ.admits(p[0])
+            && super::plausible::ACCELERATION_G.admits(p[1]))
+        {
             let msg = format!(
-                "breakpoint {}: [{}, {}] must be positive and finite",
+                "breakpoint {}: [{}, {}] is outside the plausible ranges {} and {} (see docs/robustness.md)",
                 i + 1,
                 p[0],
-                p[1]
+                p[1],
+                super::plausible::FREQUENCY_HZ.describe(),
+                super::plausible::ACCELERATION_G.describe()
             );
             return Err(loc.err("shock.srs_g", msg));
         }

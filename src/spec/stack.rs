@@ -267,12 +267,19 @@ impl StackSpec {
                 ),
             ));
         }
+        // Positive, then plausible: a 1e-300 m bar makes every stiffness matrix singular.
         let pos = |key: &str, v: f64| -> Result<(), SpecError> {
-            if v > 0.0 {
-                Ok(())
-            } else {
-                Err(loc.err(&k(key), format!("must be positive, got {v}")))
+            if !(v > 0.0) {
+                return Err(loc.err(&k(key), format!("must be positive, got {v}")));
             }
+            let range = if key.contains("stiffness") {
+                super::plausible::STIFFNESS
+            } else if key.ends_with("_kg") {
+                super::plausible::MASS_KG
+            } else {
+                super::plausible::LENGTH_M
+            };
+            super::plausible::check(loc, &k(key), v, range)
         };
         pos("satellite_mass_kg", self.satellite_mass_kg)?;
         pos("satellite_pitch_m", self.satellite_pitch_m)?;
