@@ -269,7 +269,7 @@ impl StackSpec {
         }
         // Positive, then plausible: a 1e-300 m bar makes every stiffness matrix singular.
         let pos = |key: &str, v: f64| -> Result<(), SpecError> {
-            if !(v > 0.0) {
+            if v.is_nan() || v <= 0.0 {
                 return Err(loc.err(&k(key), format!("must be positive, got {v}")));
             }
             let range = if key.contains("stiffness") {
