@@ -20,7 +20,7 @@ fn uff_psd() -> (Vec<f64>, Vec<f64>) {
             .unwrap();
     assert_eq!(recs.len(), 1);
     let r = &recs[0];
-    assert_eq!(r.function_type, 9);
+    assert_eq!(r.function.function_type, 9);
     assert_eq!(r.abscissa.len(), 3201);
     (r.abscissa.clone(), r.re.clone())
 }

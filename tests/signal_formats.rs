@@ -100,7 +100,11 @@ fn uff58b_header_is_read_in_full() {
         "ID line 4 is NONE: the response entity names the channel"
     );
     assert_eq!(
-        (r.function_type, r.ordinate_type, r.response_direction),
+        (
+            r.function.function_type,
+            r.ordinate_type,
+            r.function.response_direction
+        ),
         (1, 2, 1)
     );
     assert_eq!(

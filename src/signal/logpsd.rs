@@ -225,7 +225,10 @@ fn psd_of_uff(
             .collect::<Result<_, _>>()?,
         None => named.iter().collect(),
     };
-    let kinds: Vec<i64> = chosen.iter().map(|(_, r)| r.function_type).collect();
+    let kinds: Vec<i64> = chosen
+        .iter()
+        .map(|(_, r)| r.function.function_type)
+        .collect();
     let all_psd = kinds.iter().all(|&k| k == 9);
     let all_time = kinds.iter().all(|&k| k == 1);
     if !(all_psd || all_time) {

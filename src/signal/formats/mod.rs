@@ -77,7 +77,7 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
             r.id4.clone()
         };
         let step = r.uniform_step();
-        match (r.function_type, r.is_complex(), step) {
+        match (r.function.function_type, r.is_complex(), step) {
             (1, false, Some(step)) => {
                 if let Rate::Stated(fs, _) = rate
                     && (fs * step - 1.0).abs() > 1e-6

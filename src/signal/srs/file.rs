@@ -144,10 +144,10 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
             line: r.line,
             message,
         };
-        if r.function_type != 1 || r.is_complex() {
+        if r.function.function_type != 1 || r.is_complex() {
             return Err(uff_err(format!(
                 "record `{name}` is function type {}, not a real time history (1): no shock spectrum of it",
-                r.function_type
+                r.function.function_type
             )));
         }
         let step = r

@@ -107,7 +107,9 @@ pub(super) fn axis(line: &str) -> AxisInfo {
 
 /// Record 6 (function identification): function type, response and reference entity, node
 /// and direction.
-pub(super) struct Record6 {
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Record6 {
+    /// 1 time response, 4 FRF, 9 PSD, 12 spectrum, ... (field 1).
     pub function_type: i64,
     pub response_entity: String,
     pub response_node: i64,

@@ -14,6 +14,7 @@ mod header;
 use crate::error::SignalError;
 use cursor::Cursor;
 use header::BinaryLayout;
+pub use header::Record6;
 use std::path::{Path, PathBuf};
 
 /// Data type, label and units label of one axis (UFF58 records 8-11).
@@ -38,14 +39,9 @@ pub struct UffRecord {
     /// The channel's name: ID line 4, else the response entity of record 6 (many exporters
     /// leave ID line 4 as `NONE`); empty when both are `NONE`.
     pub id4: String,
-    /// 1 time response, 4 FRF, 9 PSD, 12 spectrum, ... (UFF58 record 6 field 1).
-    pub function_type: i64,
-    pub response_entity: String,
-    pub response_node: i64,
-    pub response_direction: i64,
-    pub reference_entity: String,
-    pub reference_node: i64,
-    pub reference_direction: i64,
+    /// Record 6: the function type and the response and reference entity, node, direction.
+    #[serde(flatten)]
+    pub function: Record6,
     /// 2 real single, 4 real double, 5 complex single, 6 complex double (record 7 field 1).
     pub ordinate_type: i64,
     /// The ordinate's units label (record 9), e.g. `m/s2`, `g`, `Pa`.
@@ -282,13 +278,7 @@ fn parse_record(
         binary: binary.is_some(),
         id1,
         id4: name,
-        function_type: r6.function_type,
-        response_entity: r6.response_entity,
-        response_node: r6.response_node,
-        response_direction: r6.response_direction,
-        reference_entity: r6.reference_entity,
-        reference_node: r6.reference_node,
-        reference_direction: r6.reference_direction,
+        function: r6,
         ordinate_type: r7.ordinate_type,
         ordinate_label: ordinate_axis.unit.clone(),
         abscissa_axis,
