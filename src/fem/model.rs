@@ -443,6 +443,40 @@ impl FeModel {
         d
     }
 
+    /// How many independent rigid-body motions the supports and constraints leave free: the
+    /// motions that the reduction reproduces exactly (zero on supported DOFs, consistent with
+    /// every `[[rigid]]` link). A model has no more rigid-body modes than this; more zero
+    /// modes are mechanisms or flexible modes lost to round-off.
+    pub fn free_rigid_motions(&self, red: &Reduction) -> usize {
+        let d = self.rigid_body_vectors([0.0; 3]);
+        // Violation of each rigid motion by the reduction: d − expand(d on reduced DOFs).
+        let mut gram = nalgebra::Matrix6::<f64>::zeros();
+        let mut norms = [0.0f64; 6];
+        for (f, expr) in red.map.iter().enumerate() {
+            let mut v = d[f];
+            for &(r, c) in expr {
+                let dr = d[red.red_to_full[r]];
+                for a in 0..6 {
+                    v[a] -= c * dr[a];
+                }
+            }
+            for a in 0..6 {
+                norms[a] += d[f][a] * d[f][a];
+                for b in 0..6 {
+                    gram[(a, b)] += v[a] * v[b];
+                }
+            }
+        }
+        // Scaled to unit motions, so that metres of lever arm and radians weigh alike.
+        for a in 0..6 {
+            for b in 0..6 {
+                gram[(a, b)] /= (norms[a] * norms[b]).sqrt().max(f64::MIN_POSITIVE);
+            }
+        }
+        let eig = nalgebra::SymmetricEigen::new(gram);
+        eig.eigenvalues.iter().filter(|&&l| l < 1e-12).count()
+    }
+
     /// Total mass and centre of mass from the full mass matrix (includes offset masses and the
     /// mass on supported DOFs).
     pub fn mass_properties(&self, m_full: &Triplets) -> (f64, [f64; 3]) {

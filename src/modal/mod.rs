@@ -533,6 +533,12 @@ fn flag_solution(
     worst: (f64, usize),
 ) -> (f64, usize) {
     mark_rigid_body(result, rigid);
+    let free = model.free_rigid_motions(red);
+    if rigid > free {
+        result
+            .warnings
+            .push(not_rigid_warning(model, result, rigid, free));
+    }
     let (max_ratio, at) = checks::max_ratio(pivot_ratio, rigid);
     if max_ratio > checks::MAX_PIVOT_RATIO {
         let w = checks::conditioning_warning(model, red, max_ratio, at);
@@ -646,6 +652,21 @@ fn m_orthonormalize(m: &Triplets, shapes: &mut [(f64, Vec<f64>)]) {
 
 fn model_name(model: &FeModel) -> String {
     format!("the model ({} nodes)", model.nodes.len())
+}
+
+/// The warning for zero-frequency modes beyond the rigid-body motions the supports leave
+/// free: a part or DOF nothing stiffens, or flexible modes whose stiffness is below the
+/// round-off of K (a mesh so fine that φᵀKφ cancels to noise).
+fn not_rigid_warning(model: &FeModel, result: &ModalResult, rigid: usize, free: usize) -> String {
+    format!(
+        "{} of the {rigid} zero-frequency modes are not rigid-body motions of {} (its supports leave {free} free): either a mechanism (a node or part that nothing stiffens in some direction) or flexible modes whose stiffness is lost to round-off in K, as on a mesh far finer than its section (elements much shorter than the section depth); check the supports and connections, or use fewer elements",
+        rigid - free,
+        model_name(model),
+    ) + &result
+        .modes
+        .get(rigid)
+        .map(|m| format!(" (first non-zero mode {:.4} Hz)", m.frequency_hz))
+        .unwrap_or_default()
 }
 
 /// Flags the first `rigid` modes (λ = 0 sorts first) and names their directions.
