@@ -142,3 +142,35 @@ fn nperseg_below_the_minimum_is_an_error_and_a_coarse_one_a_warning() {
     let v: Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["warnings"], serde_json::json!([]));
 }
+
+/// A log shorter than the default 8192-sample segment: without `--nperseg`, psd takes the
+/// largest power of two leaving four segment lengths (3000 samples → 512, 10 segments at 50%
+/// overlap) and says so on stderr; with `--nperseg 8192` given, it still refuses. Reference:
+/// a unit sine's RMS is 1/√2 (analytic); a Hann-window Welch estimate integrates to it within
+/// 1e-3 when the tone sits between lines (50 Hz at 1.953 Hz lines).
+#[test]
+fn a_short_log_gets_a_shorter_default_segment() {
+    let dir = crate::common::temp_dir("psd-short-log");
+    let path = dir.join("short.csv");
+    let mut text = String::from("t,a\n");
+    for i in 0..3000 {
+        let t = i as f64 / 1000.0;
+        text.push_str(&format!(
+            "{t},{}\n",
+            (2.0 * std::f64::consts::PI * 50.0 * t).sin()
+        ));
+    }
+    std::fs::write(&path, text).unwrap();
+    let p = path.to_str().unwrap();
+    let (code, out, err) = crate::common::run_text(&["psd", p, "--json"], None);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("nperseg 512"), "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["nperseg"], 512);
+    let grms = v["channels"][0]["grms"].as_f64().unwrap();
+    assert!((grms - 0.5f64.sqrt()).abs() < 1e-3, "{grms}");
+    let (code, _, err) = crate::common::run_text(&["psd", p, "--nperseg", "8192"], None);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("longer than the signal"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -317,3 +317,43 @@ fn cli_writes_json_csv_and_svg_and_gates_on_the_spec() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Without `--fmax`, the spectrum stops at fs/10 (ten samples per period of the highest
+/// oscillator, NASA-HDBK-7005 §3.4) and at most at 10 kHz: a 5 kHz log gets 500 Hz instead of
+/// a refusal for the 10 kHz that only a ≥ 20 kHz log could reach; the choice is said on stderr
+/// and recorded in the JSON options. An explicit `--fmax` at or above fs/2 is still refused.
+#[test]
+fn the_default_fmax_follows_the_sampling_rate() {
+    let dir = temp_dir("srs-default-fmax");
+    let path = dir.join("shock5k.csv");
+    let mut text = String::from("t,a\n");
+    for i in 0..5000 {
+        let t = i as f64 / 5000.0;
+        let a = if t > 0.1 {
+            (-30.0 * t).exp() * (2.0 * std::f64::consts::PI * 200.0 * t).sin()
+        } else {
+            0.0
+        };
+        text.push_str(&format!("{t},{a}\n"));
+    }
+    std::fs::write(&path, text).unwrap();
+    let out = satqual()
+        .arg("srs")
+        .arg(&path)
+        .arg("--json")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("up to 500 Hz"), "{err}");
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["options"]["fmax_hz"].as_f64().unwrap(), 500.0);
+    let out = satqual()
+        .arg("srs")
+        .arg(&path)
+        .args(["--fmax", "3000"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -2,7 +2,7 @@
 //! optional tolerance bands against a reference profile; `--out DIR` writes CSV curves and a
 //! log-log SVG plot with the Grms in the legend.
 
-use super::log_args::{LogArgs, WelchArgs, print_ingest_notes};
+use super::log_args::{LogArgs, WelchArgs, print_ingest_notes, print_notes};
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{
@@ -12,7 +12,8 @@ use satqual::pipeline::workflows::{
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
 
-use satqual::signal::welch::resolution_note;
+use satqual::error::SignalError;
+use satqual::signal::welch::{MIN_NPERSEG, resolution_note, short_log_nperseg};
 use satqual::signal::{PsdSource, ToleranceSpec, WelchOptions, read_profile};
 use serde_json::json;
 use std::path::PathBuf;
@@ -72,13 +73,28 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         None => None,
     };
     let profile_band = tolerance.as_ref().map(|t| profile_span(&t.profile));
-    let run = workflows::psd::run(&PsdRequest {
+    let mut req = PsdRequest {
         log: &args.log,
         ingest,
-        welch: wopts.clone(),
+        welch: wopts,
         peaks: Some(args.peaks),
         tolerance,
-    })?;
+    };
+    let run = match workflows::psd::run(&req) {
+        // The default segment is for long random tests; a short log gets a shorter one.
+        Err(Error::Signal(SignalError::SegmentTooLong { len, .. }))
+            if args.welch.nperseg.is_none() && len >= MIN_NPERSEG =>
+        {
+            req.welch.nperseg = short_log_nperseg(len);
+            print_notes(&[format!(
+                "psd: the log has {len} samples, fewer than the default segment: nperseg {} (--nperseg to choose)",
+                req.welch.nperseg
+            )]);
+            workflows::psd::run(&req)?
+        }
+        r => r?,
+    };
+    let wopts = req.welch;
     print_ingest_notes(run.psd.info.as_ref());
     let warnings = resolution_warnings(&run, &wopts, profile_band);
     for w in &warnings {

@@ -25,8 +25,9 @@ pub struct Args {
     pub q: f64,
     #[arg(long, default_value_t = 10.0)]
     pub fmin: f64,
-    #[arg(long, default_value_t = 10_000.0)]
-    pub fmax: f64,
+    /// Highest natural frequency, Hz (default: fs/10, at most 10 kHz).
+    #[arg(long)]
+    pub fmax: Option<f64>,
     /// Natural frequencies per octave (6 or 12 in the test standards).
     #[arg(long, default_value_t = 12)]
     pub per_octave: u32,
@@ -61,13 +62,19 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let opts = SrsOptions {
         q: args.q,
         fmin_hz: args.fmin,
-        fmax_hz: args.fmax,
+        fmax_hz: args.fmax.unwrap_or(f64::INFINITY),
         per_octave: args.per_octave,
         offset: Offset::parse(&args.offset)?,
     };
     let res = srs_of_file(&args.log, &ingest, &opts)?;
     if let Some(record) = &res.ingest {
         super::log_args::print_notes(&record.notes);
+    }
+    if args.fmax.is_none() {
+        super::log_args::print_notes(&[format!(
+            "srs: natural frequencies up to {} Hz (default fs/10, at most 10 kHz; --fmax to change)",
+            res.options.fmax_hz
+        )]);
     }
     let checks = match &args.spec {
         Some(path) => spec_checks(path, &res, &args)?,

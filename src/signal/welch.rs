@@ -174,6 +174,17 @@ impl Default for WelchOptions {
 /// would be 0) and the spectrum describes the window rather than the signal.
 pub const MIN_NPERSEG: usize = 16;
 
+/// The segment for a log shorter than the default one: the largest power of two that leaves
+/// at least 4 segment lengths of signal (7 averages at 50% overlap, a PSD with ~2.6 degrees of
+/// freedom per line rather than one raw periodogram), never below [`MIN_NPERSEG`].
+pub fn short_log_nperseg(len: usize) -> usize {
+    let mut n = MIN_NPERSEG;
+    while 2 * n * 4 <= len {
+        n *= 2;
+    }
+    n
+}
+
 /// Fewest lines a band must hold for its peaks and RMS to mean something.
 pub const MIN_LINES_IN_BAND: usize = 16;
 

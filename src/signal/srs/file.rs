@@ -46,8 +46,9 @@ pub fn srs_of_file(
     ingest: &IngestOptions,
     opts: &SrsOptions,
 ) -> Result<LogSrs, SignalError> {
-    opts.validate()?;
     let (fs_hz, records, record) = read_records(path, ingest)?;
+    let opts = &opts.resolved_for(fs_hz);
+    opts.validate()?;
     let freqs = natural_frequencies(opts.fmin_hz, opts.fmax_hz, opts.per_octave);
     let channels = records
         .into_iter()

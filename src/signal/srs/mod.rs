@@ -77,7 +77,23 @@ impl Default for SrsOptions {
     }
 }
 
+/// The default highest natural frequency: ten samples per period of the highest oscillator
+/// (the sampling rule of NASA-HDBK-7005 §3.4 for shock data), and at most the 10 kHz that
+/// pyroshock specifications stop at.
+pub fn default_fmax_hz(fs_hz: f64) -> f64 {
+    (fs_hz / 10.0).min(10_000.0)
+}
+
 impl SrsOptions {
+    /// `fmax_hz = ∞` asks for [`default_fmax_hz`] of the record's rate; any other value stays.
+    pub fn resolved_for(&self, fs_hz: f64) -> SrsOptions {
+        let mut o = *self;
+        if o.fmax_hz == f64::INFINITY {
+            o.fmax_hz = default_fmax_hz(fs_hz);
+        }
+        o
+    }
+
     pub fn validate(&self) -> Result<(), SignalError> {
         let bad = |name, value: f64, reason: &str| {
             Err(SignalError::BadParameter {
