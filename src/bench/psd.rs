@@ -98,6 +98,25 @@ if mode == "welch":
         ours = np.fromfile(sys.argv[4], dtype="<f8")
         m = p > 1e-12 * p.max()
         out["max_rel_err_vs_ours"] = float(np.max(np.abs(ours[m] - p[m]) / p[m]))
+elif mode in ("pandas+scipy", "polars+scipy", "polars"):
+    import numpy as np, scipy.signal as ss
+    if mode.startswith("pandas"):
+        import pandas as lib
+        read = lambda: lib.read_csv(path)["accel_g"].to_numpy()
+    else:
+        import polars as lib
+        read = lambda: lib.read_csv(path)["accel_g"].to_numpy()
+    best = 1e99
+    reps = int(sys.argv[3])
+    c0 = time.process_time()
+    for _ in range(reps):
+        t = time.perf_counter()
+        x = read()
+        if mode != "polars":
+            f, p = ss.welch(x, fs=8192.0, window="hann", nperseg=8192, noverlap=4096, detrend="constant")
+        best = min(best, time.perf_counter() - t)
+        del x
+    out = {"seconds": best, "cpu_seconds": (time.process_time() - c0) / reps, "version": lib.__version__}
 else:
     import pandas as pd
     best = 1e99
@@ -126,8 +145,12 @@ pub(super) fn python(script: &Path, args: &[&str]) -> Option<Value> {
 }
 
 fn have_python() -> bool {
+    python_imports("scipy.signal, pandas")
+}
+
+fn python_imports(modules: &str) -> bool {
     std::process::Command::new("python3")
-        .args(["-c", "import scipy.signal, pandas"])
+        .args(["-c", &format!("import {modules}")])
         .output()
         .is_ok_and(|o| o.status.success())
 }
@@ -162,6 +185,10 @@ pub fn run() -> Result<(String, String), Error> {
         eprintln!(
             "bench psd: no scipy.welch / pandas.read_csv peers: python3 cannot import scipy.signal and pandas"
         );
+    }
+    let have_polars = py && python_imports("polars");
+    if py && !have_polars {
+        eprintln!("bench psd: no polars peer: python3 cannot import polars (pip install polars)");
     }
     let threads = rayon::current_num_threads();
     let load_before = std::fs::read_to_string("/proc/loadavg")
@@ -264,8 +291,28 @@ pub fn run() -> Result<(String, String), Error> {
         } else {
             None
         };
+        let pipeline = |mode: &str, ok: bool| {
+            (peers && ok)
+                .then(|| {
+                    python(
+                        &script,
+                        &[mode, csv.to_str().unwrap_or(""), &csv_reps.to_string()],
+                    )
+                })
+                .flatten()
+        };
+        let pandas_scipy = pipeline("pandas+scipy", true);
+        let polars = pipeline("polars", have_polars);
+        let polars_scipy = pipeline("polars+scipy", have_polars);
         let _ = std::fs::remove_file(&csv);
         let rate = |s: f64| n as f64 / s;
+        let peer_row = |v: &Option<Value>, ours: f64| {
+            v.as_ref().map(|v| json!({
+                "seconds": v["seconds"], "cpu_seconds_per_run": v["cpu_seconds"], "version": v["version"],
+                "samples_per_s": v["seconds"].as_f64().map(rate),
+                "speedup_of_satqual": v["seconds"].as_f64().map(|s| s / ours),
+            }))
+        };
         let scipy_s = scipy.as_ref().and_then(|v| v["seconds"].as_f64());
         let pandas_s = pandas.as_ref().and_then(|v| v["seconds"].as_f64());
         rows.push(json!({
@@ -299,6 +346,9 @@ pub fn run() -> Result<(String, String), Error> {
             })),
             "csv_read_speedup_vs_pandas": pandas_s.map(|s| s / read_s),
             "csv_read_cpu_ratio_vs_pandas": pandas.as_ref().and_then(|v| v["cpu_seconds"].as_f64()).map(|c| c / read_cpu),
+            "polars_read_csv": peer_row(&polars, read_s),
+            "pandas_then_scipy_welch": peer_row(&pandas_scipy, psd_s),
+            "polars_then_scipy_welch": peer_row(&polars_scipy, psd_s),
         }));
     }
     let srs = super::psd_srs::row(&tmp, scipy_available())?;
@@ -372,6 +422,25 @@ fn markdown(r: &Value) -> String {
             cpu(&row["csv"]["read_cpu_seconds_per_run"]),
             cpu(&row["pandas_read_csv"]["cpu_seconds_per_run"]),
             fmt_ratio(&row["csv_read_cpu_ratio_vs_pandas"]),
+        ));
+    }
+    s.push_str("\nFile to PSD, end to end (read the CSV, then Welch on the column; the peers read with pandas or polars and run scipy.signal.welch), and the CSV read alone against polars:\n\n");
+    s.push_str("| samples | satqual psd | pandas + scipy | satqual speed-up | polars + scipy | satqual speed-up | satqual read | polars.read_csv | satqual speed-up |\n|---|---|---|---|---|---|---|---|---|\n");
+    for row in r["rows"].as_array().into_iter().flatten() {
+        let peer = |k: &str| {
+            (
+                fmt_rate(&row[k]["samples_per_s"]),
+                fmt_ratio(&row[k]["speedup_of_satqual"]),
+            )
+        };
+        let (pd, pd_x) = peer("pandas_then_scipy_welch");
+        let (pl, pl_x) = peer("polars_then_scipy_welch");
+        let (plr, plr_x) = peer("polars_read_csv");
+        s.push_str(&format!(
+            "| {} | {} | {pd} | {pd_x} | {pl} | {pl_x} | {} | {plr} | {plr_x} |\n",
+            row["label"].as_str().unwrap_or(""),
+            fmt_rate(&row["csv"]["read_and_psd_samples_per_s"]),
+            fmt_rate(&row["csv"]["read_samples_per_s"]),
         ));
     }
     let errs: Vec<String> = r["rows"]
