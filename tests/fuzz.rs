@@ -228,11 +228,18 @@ fn check_outcome(
             Ok(())
         }
         Some(2) => {
-            let located = stderr.starts_with("satqual: error:")
-                && (stderr.contains(&*input.file_name().unwrap().to_string_lossy())
-                    || stderr.contains("key `")
-                    || stderr.contains("line ")
-                    || stderr.contains("channel"));
+            // Notes may come first (what the reader or a default decided); the error is the
+            // message from "satqual: error:" on, and that message must carry the location.
+            let error = stderr
+                .lines()
+                .position(|l| l.starts_with("satqual: error:"))
+                .map(|i| stderr.lines().skip(i).collect::<Vec<_>>().join("\n"));
+            let located = error.is_some_and(|e| {
+                e.contains(&*input.file_name().unwrap().to_string_lossy())
+                    || e.contains("key `")
+                    || e.contains("line ")
+                    || e.contains("channel")
+            });
             if located {
                 Ok(())
             } else {

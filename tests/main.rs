@@ -53,6 +53,7 @@ mod signal_bands;
 mod signal_dialects;
 mod signal_formats;
 mod signal_frf;
+mod signal_impact;
 mod signal_ingest;
 mod signal_proptest;
 mod signal_psd_cli;

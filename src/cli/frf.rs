@@ -93,7 +93,7 @@ pub fn run_json(run: &FrfRun) -> serde_json::Value {
         "window": w.window.name(),
         "detrend": w.detrend.name(),
         "overlap": w.overlap,
-        "impact": run.impact.as_ref().map(|p| json!({"detected": true, "pulses": p})),
+        "impact": run.impact.as_ref().map(|p| json!({"detected": true, "pulses": p, "windows": run.impact_windows})),
         "screen": run.screen.as_ref().map(|s| json!({
             "excited_band": s.excited,
             "searched_hz": s.searched_hz,
@@ -120,7 +120,13 @@ pub fn check_run_sources(run: &FrfRun, what: &str) -> Result<(), Error> {
         .screen
         .as_ref()
         .map(|s| (&s.excited, s.searched_hz, &s.screened_out));
-    let sources = (h.fs, h.df, &run.resonances, screen, &run.impact);
+    let sources = (
+        h.fs,
+        h.df,
+        &run.resonances,
+        screen,
+        (&run.impact, &run.impact_windows),
+    );
     satqual::output_check::check_sources(&sources, what)
 }
 

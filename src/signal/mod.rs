@@ -20,6 +20,7 @@ pub mod ema;
 pub mod formats;
 pub mod frf;
 pub mod impact;
+pub mod impact_windows;
 pub mod ingest;
 pub mod logpsd;
 pub mod peaks;

@@ -4,8 +4,10 @@
 //! coherence is high; an impact input, detected, sets the Welch options of an impact test.
 
 use crate::error::Error;
+use crate::signal::frf::frf;
 use crate::signal::frf::{frf_of_logs, read_frf_logs};
-use crate::signal::impact::{ImpactPulse, detect_impact, impact_welch};
+use crate::signal::impact::{ImpactPulse, detect_hits, impact_welch};
+use crate::signal::impact_windows::{HitLog, ImpactWindows, corrected_q, hit_records};
 use crate::signal::ingest::{IngestRecord, Log};
 use crate::signal::screen::{ExcitedBand, excited_band, split_by_coherence};
 use crate::signal::welch::resolution_note;
@@ -57,8 +59,10 @@ pub struct FrfRun {
     pub resonances: Vec<Resonance>,
     /// The Welch options used (the impact options when an impact was detected).
     pub welch: WelchOptions,
-    /// The pulse of each record when the input was detected as an impact.
+    /// Every hit of every record when the input was detected as an impact.
     pub impact: Option<Vec<ImpactPulse>>,
+    /// The windows of the impact analysis (force, exponential), when it was one.
+    pub impact_windows: Option<ImpactWindows>,
     pub screen: Option<ScreenReport>,
     /// The reader's decisions, per log.
     pub ingest: Vec<(PathBuf, IngestRecord)>,
@@ -71,7 +75,7 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
     let mut notes = Vec::new();
     let impact = impact_of(&logs);
     match &impact {
-        Some(p) if req.welch_is_default => notes.push(impact_note(p, req.input, shortest(&logs))),
+        Some(_) if req.welch_is_default => {}
         Some(_) => notes.push(format!(
             "`{}` looks like an impact (one short pulse per record), but Welch options were given: they are used as given; \
              a window or segments shorter than the record weigh the pulse down (leave the Welch flags out for the impact options)",
@@ -80,11 +84,18 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
         None => {}
     }
     let impact = impact.filter(|_| req.welch_is_default);
-    let welch = match &impact {
-        Some(_) => impact_welch(shortest(&logs)),
-        None => req.welch.clone(),
+    let (frf, welch, windows) = match &impact {
+        Some(hits) => {
+            let (frf, windows) = impact_frf(&logs, hits)?;
+            notes.push(impact_note(hits, req.input, &windows));
+            (frf, impact_welch(windows.segment_samples), Some(windows))
+        }
+        None => (
+            frf_of_logs(&logs, req.input, &req.welch)?,
+            req.welch.clone(),
+            None,
+        ),
     };
-    let frf = frf_of_logs(&logs, req.input, &welch)?;
     let f = frf.frequencies();
     let mut peaks = req.peaks.clone();
     if req.from_first_line || req.screen.is_some() {
@@ -100,11 +111,16 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
             None,
         ),
     };
+    let resonances = match windows.as_ref().and_then(|w| w.exponential_tau_s) {
+        Some(tau) => without_window_damping(resonances, tau),
+        None => resonances,
+    };
     Ok(FrfRun {
         frf,
         resonances,
         welch,
-        impact,
+        impact: impact.map(|h| h.concat()),
+        impact_windows: windows,
         screen,
         ingest: logs
             .iter()
@@ -114,25 +130,72 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
     })
 }
 
-fn shortest(logs: &[Log]) -> usize {
-    logs.iter().map(|l| l.data[0].len()).min().unwrap_or(0)
-}
-
-/// The pulses when every record's input is one short pulse.
-fn impact_of(logs: &[Log]) -> Option<Vec<ImpactPulse>> {
+/// The hits of every record when every record's input is a train of short pulses.
+fn impact_of(logs: &[Log]) -> Option<Vec<Vec<ImpactPulse>>> {
     logs.iter()
-        .map(|l| detect_impact(&l.data[0], l.info.fs_hz))
+        .enumerate()
+        .map(|(k, l)| {
+            let mut hits = detect_hits(&l.data[0], l.info.fs_hz)?;
+            hits.iter_mut().for_each(|h| h.record = k);
+            Some(hits)
+        })
         .collect()
 }
 
-fn impact_note(pulses: &[ImpactPulse], input: &str, nperseg: usize) -> String {
-    let widest = pulses.iter().fold(0.0f64, |m, p| m.max(p.width_s));
+/// H1 averaged over every hit of every record, each hit its own force- and (if needed)
+/// exponentially windowed segment.
+fn impact_frf(logs: &[Log], hits: &[Vec<ImpactPulse>]) -> Result<(Frf, ImpactWindows), Error> {
+    let fs = logs.first().map_or(0.0, |l| l.info.fs_hz);
+    let hit_logs: Vec<HitLog> = logs
+        .iter()
+        .zip(hits)
+        .map(|(l, h)| HitLog {
+            force: &l.data[0],
+            response: &l.data[1],
+            hits: h,
+        })
+        .collect();
+    let cut = hit_records(&hit_logs, fs);
+    let records: Vec<(&[f64], &[f64])> = cut
+        .records
+        .iter()
+        .map(|(f, y)| (f.as_slice(), y.as_slice()))
+        .collect();
+    let frf = frf(&records, fs, &impact_welch(cut.windows.segment_samples))?;
+    Ok((frf, cut.windows))
+}
+
+/// The resonances' Q with the exponential window's damping taken out; a Q the window alone
+/// explains is dropped (`None`, said in the JSON as no Q).
+fn without_window_damping(resonances: Vec<Resonance>, tau: f64) -> Vec<Resonance> {
+    resonances
+        .into_iter()
+        .map(|mut r| {
+            r.q = r.q.and_then(|q| corrected_q(r.frequency_hz, q, tau));
+            r
+        })
+        .collect()
+}
+
+fn impact_note(hits: &[Vec<ImpactPulse>], input: &str, w: &ImpactWindows) -> String {
+    let all: Vec<&ImpactPulse> = hits.iter().flatten().collect();
+    let widest = all.iter().fold(0.0f64, |m, p| m.max(p.width_s));
+    let exp = match w.exponential_tau_s {
+        Some(tau) => format!(
+            "; the response had not died away by the end of a segment: exponential window τ = {:.4} s on both channels \
+             (it adds ζ = 1/(2π f τ), taken out of the reported Q)",
+            tau
+        ),
+        None => String::new(),
+    };
     format!(
-        "impact input detected: `{input}` is one pulse of at most {:.3} ms in each of {} record(s); \
-         impact options used: one segment per hit (nperseg {nperseg}), boxcar window, no detrend, no overlap \
+        "impact input detected: `{input}` holds {} hit(s) of at most {:.3} ms in {} record(s); \
+         impact options used: one segment per hit (nperseg {}), force window, boxcar, no detrend, no overlap{exp} \
          (pass --nperseg, --window, --overlap or --detrend to choose otherwise)",
+        all.len(),
         widest * 1e3,
-        pulses.len(),
+        hits.len(),
+        w.segment_samples,
     )
 }
 
