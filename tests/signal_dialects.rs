@@ -146,33 +146,53 @@ fn time_in_milliseconds_and_epoch_nanoseconds() {
     let log = check(&p, &IngestOptions::default(), "acc_g");
     assert_eq!(log.info.ingest.time_unit, Some(TimeUnit::Ms));
     assert_eq!(log.info.channels.len(), 1);
-    // Epoch nanoseconds: 1.7e18 ns (2023). A bare `timestamp` name states no unit.
-    let mut text = String::from("timestamp,acc_g\n");
-    for i in 0..N {
-        text.push_str(&format!(
-            "{},{:.9}\n",
-            1_700_000_000_000_000_000u64 + i as u64 * 1_000_000,
-            sample(i)
-        ));
+    // Epoch timestamps in s, ms, µs and ns (2023: 1.7e9 s). A bare `timestamp` name states no
+    // unit; the size does (the four ranges of the years 2001–2286 are three decades apart),
+    // and a note says so. f64 holds 1.7e18 to 256 ns: the rate over the span is good to 1e-6.
+    for (unit, per_s) in [
+        (TimeUnit::S, 1u64),
+        (TimeUnit::Ms, 1_000),
+        (TimeUnit::Us, 1_000_000),
+        (TimeUnit::Ns, 1_000_000_000),
+    ] {
+        let mut text = String::from("timestamp,acc_g\n");
+        for i in 0..N {
+            let t = 1_700_000_000.0 + i as f64 / FS;
+            // Seconds with their fraction written out, the other units as integers.
+            let digits = if per_s == 1 { 3 } else { 0 };
+            text.push_str(&format!(
+                "{:.*},{:.9}\n",
+                digits,
+                t * per_s as f64,
+                sample(i)
+            ));
+        }
+        let p = write(&format!("epoch_{per_s}.csv"), &text);
+        let log = read_csv(&p, &IngestOptions::default()).unwrap();
+        assert_eq!(log.info.ingest.time_unit, Some(unit));
+        assert!(
+            log.info.ingest.notes.iter().any(|n| n.contains("epoch")),
+            "{:?}",
+            log.info.ingest.notes
+        );
+        assert!(
+            (log.info.fs_hz - FS).abs() < FS * 1e-6,
+            "{}",
+            log.info.fs_hz
+        );
     }
-    let p = write("epoch.csv", &text);
+    // Between the ranges (1.7e17: neither µs nor ns of a plausible date) the unit cannot be
+    // told: a located error asks for it.
+    let p = write(
+        "epoch_odd.csv",
+        "timestamp,acc_g\n170000000000000000,0\n170000000001000000,1\n",
+    );
     let err = read_csv(&p, &IngestOptions::default())
         .unwrap_err()
         .to_string();
     assert!(
         err.contains("line 2") && err.contains("--time-unit"),
         "{err}"
-    );
-    let opts = IngestOptions {
-        time_unit: Some(TimeUnit::Ns),
-        ..Default::default()
-    };
-    // f64 holds 1.7e18 to 256 ns: the rate over the 1 s span is good to 1e-6, not 1e-9.
-    let log = read_csv(&p, &opts).unwrap();
-    assert!(
-        (log.info.fs_hz - FS).abs() < FS * 1e-6,
-        "{}",
-        log.info.fs_hz
     );
 }
 

@@ -581,7 +581,7 @@ fn check_names(
 }
 
 /// The time column's unit: the option, the units row, the name, else seconds unless the first
-/// value is an epoch timestamp whose unit cannot be guessed.
+/// value is an epoch timestamp, whose unit follows from its size where that is unambiguous.
 fn time_unit_of(
     file: &Path,
     d: &Dialect,
@@ -614,7 +614,7 @@ fn time_unit_of(
         .get(col)
         .and_then(|c| sniff::number(c, d.decimal_comma));
     match first {
-        Some(v) if v.abs() > 1e8 => Err(SignalError::Unsupported {
+        Some(v) if v.abs() > 1e8 => epoch_unit(v).ok_or_else(|| SignalError::Unsupported {
             file: file.to_path_buf(),
             message: format!(
                 "line {}: time column `{name}` starts at {v:e}, an epoch timestamp whose unit the name does not state; pass --time-unit s, ms, us or ns",
@@ -623,6 +623,22 @@ fn time_unit_of(
         }),
         _ => Ok(TimeUnit::S),
     }
+}
+
+/// The unit of an epoch timestamp from its size alone, where that is unambiguous: the years
+/// 2001–2286 are 1e9–1e10 s, 1e12–1e13 ms, 1e15–1e16 µs and 1e18–1e19 ns since 1970, four
+/// ranges three decades apart. Elsewhere the unit cannot be told.
+fn epoch_unit(v: f64) -> Option<TimeUnit> {
+    let v = v.abs();
+    [
+        (1e9, TimeUnit::S),
+        (1e12, TimeUnit::Ms),
+        (1e15, TimeUnit::Us),
+        (1e18, TimeUnit::Ns),
+    ]
+    .into_iter()
+    .find(|(lo, _)| (*lo..10.0 * lo).contains(&v))
+    .map(|(_, u)| u)
 }
 
 fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<ColumnPlan, SignalError> {
@@ -652,10 +668,21 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
         Some(tc) => Some(time_unit_of(file, d, opts, tc, &header[tc])?),
         None => None,
     };
-    if let (Some(tc), Some(u)) = (time_col, time_unit)
-        && u != TimeUnit::S
-    {
-        notes.push(format!("time column `{}` in {}", header[tc], u.name()));
+    if let (Some(tc), Some(u)) = (time_col, time_unit) {
+        let epoch = d
+            .first_row
+            .get(tc)
+            .and_then(|c| sniff::number(c, d.decimal_comma))
+            .is_some_and(|v| v.abs() > 1e8);
+        if epoch && opts.time_unit.is_none() {
+            notes.push(format!(
+                "time column `{}` read as an epoch timestamp in {} from its size (pass --time-unit to state it)",
+                header[tc],
+                u.name()
+            ));
+        } else if u != TimeUnit::S {
+            notes.push(format!("time column `{}` in {}", header[tc], u.name()));
+        }
     }
     let mut metadata = Vec::new();
     let mut fs_from_metadata = None;
