@@ -325,6 +325,17 @@ fn sparse_err(
         sparse::SparseError::NotPositiveDefinite { index } => {
             dof_err(model, red, index, massless).into()
         }
+        sparse::SparseError::SingularNear {
+            sigma,
+            index,
+            relative_pivot,
+        } => ModalError::NoConvergence(format!(
+            "K − σM stays singular near σ = {sigma:e} rad²/s²: the pivot of {} keeps {relative_pivot:.1e} of its diagonal entry, \
+             below round-off; the stiffness has lost its digits there: a mechanism, a spring many decades stiffer than its \
+             neighbours (use [[rigid]]), or elements far shorter than their section (a mesh finer than double precision resolves: use fewer elements)",
+            checks::dof_name(model, red, index)
+        ))
+        .into(),
         sparse::SparseError::Modal(m) => m.into(),
     }
 }

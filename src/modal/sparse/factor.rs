@@ -295,18 +295,24 @@ impl Factor<'_> {
 
     /// Smallest |d_i| / |A_ii|: how close σ sits to an eigenvalue.
     pub(super) fn min_relative_pivot(&self) -> f64 {
+        self.smallest_relative_pivot().0
+    }
+
+    /// The smallest |pivot| / |diagonal entry| and its index in the input ordering.
+    fn smallest_relative_pivot(&self) -> (f64, usize) {
         let p = self.pencil;
         (0..p.n)
             .map(|i| {
                 let o = p.original(i);
                 let a = (p.diag_k[o] - self.sigma * p.diag_m[o]).abs();
-                if a > 0.0 {
+                let r = if a > 0.0 {
                     self.pivots[i].abs() / a
                 } else {
                     f64::INFINITY
-                }
+                };
+                (r, o)
             })
-            .fold(f64::INFINITY, f64::min)
+            .fold((f64::INFINITY, 0), |b, x| if x.0 < b.0 { x } else { b })
     }
 }
 
@@ -318,20 +324,22 @@ pub(super) fn factor_away_from_eigenvalue<'a>(
     stats: &mut SparseStats,
 ) -> Result<Factor<'a>, SparseError> {
     let mut s = sigma;
+    let mut worst = (0.0, 0);
     for _ in 0..8 {
         stats.factorizations += 1;
         match pencil.factor(s) {
             Ok(f) if f.min_relative_pivot() > 1e-13 => return Ok(f),
-            Ok(_) | Err(SparseError::NotPositiveDefinite { .. }) => {
-                s += 1e-9 * s.abs().max(f64::MIN_POSITIVE);
-            }
+            Ok(f) => worst = f.smallest_relative_pivot(),
+            Err(SparseError::NotPositiveDefinite { index }) => worst = (0.0, index),
             Err(e) => return Err(e),
         }
+        s += 1e-9 * s.abs().max(f64::MIN_POSITIVE);
     }
-    Err(
-        ModalError::NoConvergence(format!("K − σM stays singular near σ = {sigma:e} rad²/s²"))
-            .into(),
-    )
+    Err(SparseError::SingularNear {
+        sigma,
+        index: worst.1,
+        relative_pivot: worst.0,
+    })
 }
 
 /// Relative half-width of the gap a partition point of the spectrum keeps from every

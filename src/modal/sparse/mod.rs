@@ -89,6 +89,13 @@ pub enum SparseError {
     NotPositiveDefinite {
         index: usize,
     },
+    /// K − σM stayed singular to working precision near σ: its smallest pivot relative to its
+    /// diagonal entry, at this index of the input ordering.
+    SingularNear {
+        sigma: f64,
+        index: usize,
+        relative_pivot: f64,
+    },
     Modal(ModalError),
 }
 

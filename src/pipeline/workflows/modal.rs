@@ -65,6 +65,15 @@ fn locate_modal_error(scene: &Scene, e: Error) -> Error {
             );
             scene.locator().err("static_load[0].node", msg).into()
         }
+        // A solver failure is the model's: named with its scene (the message names the DOF).
+        (Error::Modal(m @ ModalError::NoConvergence(_)), _) => SpecError {
+            file: scene.path.clone(),
+            line: 0,
+            column: 0,
+            key: String::new(),
+            message: m.to_string(),
+        }
+        .into(),
         (other, _) => other,
     }
 }
