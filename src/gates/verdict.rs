@@ -114,6 +114,14 @@ impl Verdict {
     }
 
     /// The same verdict in family `group`.
+    /// Marks one item of a family of like gates (a kind under a load case), which the report
+    /// folds into one row, the worst.
+    pub fn folded_as(mut self, kind: &str, load_case: &str) -> Verdict {
+        self.kind = kind.to_string();
+        self.load_case = load_case.to_string();
+        self
+    }
+
     pub fn in_group(mut self, group: Group) -> Verdict {
         self.group = Some(group);
         self

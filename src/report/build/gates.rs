@@ -228,4 +228,36 @@ mod tests {
         assert!(row.failed);
         assert_eq!(folded_row(&runs[1]).cells[0], "a");
     }
+
+    /// The nominal release's per-satellite gates fold like joints: six exit speeds make one
+    /// row, the slowest satellite, with how many failed.
+    #[test]
+    fn per_satellite_separation_gates_fold_to_the_worst_satellite() {
+        use crate::gates::separation::NOMINAL_RELEASE;
+        let gates: Vec<Verdict> = [0.33, 0.31, 0.04, 0.32, 0.30, 0.05]
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                Verdict::gate(
+                    format!("satellite {} exit speed [m/s]", i + 1),
+                    v,
+                    0.1,
+                    v / 0.1 - 1.0,
+                    v >= 0.1,
+                    "s",
+                )
+                .in_group(Group::Separation)
+                .folded_as("exit speed", NOMINAL_RELEASE)
+            })
+            .collect();
+        let refs: Vec<&Verdict> = gates.iter().collect();
+        let runs = fold_by_kind_and_case(&refs);
+        assert_eq!(runs.len(), 1);
+        let row = folded_row(&runs[0]);
+        assert_eq!(
+            row.cells[0],
+            "exit speed (nominal release), worst of 6: satellite 3 exit speed [m/s]"
+        );
+        assert_eq!(row.cells[4], "FAIL (2 of 6)");
+    }
 }
