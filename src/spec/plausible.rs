@@ -71,6 +71,12 @@ pub const FREQUENCY_HZ: Range = range(1e-6, 1e7, "Hz", false);
 pub const SAFETY_FACTOR: Range = range(1.0, 10.0, "", false);
 /// A friction coefficient: lubricated PTFE (~0.04) to clean metal in vacuum (~1.5).
 pub const FRICTION: Range = range(1e-3, 2.0, "", false);
+/// A friction coefficient of the release's contacts, where 0 (frictionless) is a model
+/// choice; 1e5 made a release take 50 s of stick-slip steps.
+pub const CONTACT_FRICTION: Range = range(1e-3, 2.0, "", true);
+/// A length of the `[stack]`: a kilometre-high stack is beyond any launcher (a 200-satellite
+/// stack's bars are 110 m); a 100 km bar made a release take 46 s to simulate nothing.
+pub const STACK_LENGTH_M: Range = range(1e-9, 1e3, "m", false);
 
 impl Range {
     /// Whether `v` is accepted: finite and inside the range, or exactly 0 where admitted.

@@ -792,6 +792,12 @@ pub fn validate(
         ));
     }
     nonneg("separation.contact.friction", c.friction)?;
+    super::plausible::check(
+        loc,
+        "separation.contact.friction",
+        c.friction,
+        super::plausible::CONTACT_FRICTION,
+    )?;
     nonneg("separation.contact.v0_m_s", c.v0_m_s)?;
     if c.v1_m_s <= c.v0_m_s {
         return Err(loc.err(
@@ -848,13 +854,21 @@ pub fn validate(
             format!("needs 0 <= min <= max, got [{a}, {b}]"),
         ));
     }
-    if let Some([a, b]) = d.friction_range
-        && (a < 0.0 || b < a)
-    {
-        return Err(loc.err(
-            "separation.dispersion.friction_range",
-            format!("needs 0 <= min <= max, got [{a}, {b}]"),
-        ));
+    if let Some([a, b]) = d.friction_range {
+        if a < 0.0 || b < a {
+            return Err(loc.err(
+                "separation.dispersion.friction_range",
+                format!("needs 0 <= min <= max, got [{a}, {b}]"),
+            ));
+        }
+        for v in [a, b] {
+            super::plausible::check(
+                loc,
+                "separation.dispersion.friction_range",
+                v,
+                super::plausible::CONTACT_FRICTION,
+            )?;
+        }
     }
     if let Some(sh) = &spec.shock {
         validate_shock(sh, loc)?;

@@ -277,7 +277,7 @@ impl StackSpec {
             } else if key.ends_with("_kg") {
                 super::plausible::MASS_KG
             } else {
-                super::plausible::LENGTH_M
+                super::plausible::STACK_LENGTH_M
             };
             super::plausible::check(loc, &k(key), v, range)
         };
