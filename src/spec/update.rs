@@ -162,7 +162,8 @@ fn check_parameter(
             "the starting value {value} of `{}` is outside [{}, {}]",
             p.path, p.lower, p.upper
         );
-        return Err(loc.err(&at("path"), msg));
+        let bound = if value < p.lower { "lower" } else { "upper" };
+        return Err(loc.err(&at(bound), msg));
     }
     Ok(())
 }

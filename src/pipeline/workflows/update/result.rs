@@ -243,10 +243,9 @@ fn annotations(problem: &Problem, u: &Update) -> Vec<Option<String>> {
             }
             let written = crate::spec::sweep::find(loc.doc_item(), &p.key)
                 .ok()
-                .and_then(|i| {
-                    i.as_value()
-                        .map(|v| v.clone().decorated("", "").to_string())
-                })
+                .and_then(|i| i.span())
+                .and_then(|s| problem.base.text.get(s))
+                .map(|t| t.trim().to_string())
                 .unwrap_or_else(|| p.start.to_string());
             Some(format!(
                 "updated by satqual update from {written} ({} paired modes, residual {:.2}%)",
