@@ -62,6 +62,7 @@ mod signal_srs;
 mod signal_sweep;
 mod signal_timing;
 mod signal_welch;
+mod update;
 
 // Hostile input: limits, plausibility, finite outputs, mutation fuzzing.
 mod fuzz;

@@ -26,6 +26,7 @@ mod signature;
 mod sine;
 mod srs;
 mod sweep;
+mod update;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -64,6 +65,8 @@ pub enum Command {
     Ema(ema::Args),
     /// Test-analysis correlation: paired modes, frequency errors, MAC, cross-orthogonality.
     Correlate(correlate::Args),
+    /// Model updating: scene parameters fitted to the paired test frequencies.
+    Update(update::Args),
     /// Compare the resonances of signatures taken before and after a test.
     Signature(signature::Args),
     /// Sine-sweep tracking: response per unit drive against drive frequency, fn and Q.
@@ -96,6 +99,7 @@ pub fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Frf(a) => frf::run(a),
         Command::Ema(a) => ema::run(a),
         Command::Correlate(a) => correlate::run(a),
+        Command::Update(a) => update::run(a),
         Command::Signature(a) => signature::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Srs(a) => srs::run(a),

@@ -10,6 +10,7 @@ pub mod checks;
 pub mod correlation;
 pub mod dense;
 pub mod sparse;
+pub mod updating;
 
 use crate::error::{FemError, ModalError};
 use crate::fem::model::{FeModel, Reduction, Triplets, dense as to_dense};

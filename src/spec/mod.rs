@@ -21,6 +21,8 @@ pub mod separation;
 pub mod shock;
 pub mod stack;
 pub mod sweep;
+pub mod update;
+pub mod update_edit;
 
 pub use model::*;
 pub use qualify::{GatesSpec, LogKind, TestLogSpec};
@@ -107,6 +109,9 @@ pub struct SceneFile {
     /// read the scene as written, without it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep: Option<sweep::SweepSpec>,
+    /// Model updating (`satqual update`): the parameters adjusted and the modes fitted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub update: Option<update::UpdateSpec>,
     /// The largest work the scene may ask for; absent, the defaults of [`limits`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub limits: Option<limits::LimitsSpec>,
@@ -156,8 +161,13 @@ impl Scene {
         };
         // The generic model is one point of the design space; `[sweep]` stays with the file.
         model.sweep = None;
+        model.update = None;
         model::validate(&model, &loc)?;
         correlation::validate(&file, &model, &loc)?;
+        if let Some(u) = &file.update {
+            let test_modes = file.test_modes.as_ref().map(|t| t.mode.len());
+            update::validate(u, test_modes, &loc)?;
+        }
         // The test article carries its sensors: every analysis of this scene sees their mass.
         correlation::add_sensor_masses(&file, &mut model);
         qualify::validate(
@@ -218,6 +228,11 @@ impl Locator {
             text: text.to_string(),
             doc,
         })
+    }
+
+    /// The scene text's TOML tree, for reading values by key path.
+    pub fn doc_item(&self) -> &toml_edit::Item {
+        self.doc.as_item()
     }
 
     /// An error at the key `path` (dotted, with `[i]` indices), located in the file.

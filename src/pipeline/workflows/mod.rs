@@ -13,3 +13,4 @@ pub mod separate;
 pub mod signature;
 pub mod sweep;
 pub mod test_data;
+pub mod update;

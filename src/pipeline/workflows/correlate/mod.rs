@@ -65,14 +65,7 @@ pub fn run(scene: &Scene) -> Result<Correlation, Error> {
     let (model, sys) = super::modal::run(scene, &opts)?;
     let rows = fe_side::test_dof_rows(scene, &model, &sys)?;
     let fe = fe_side::fe_modes(&sys, &rows);
-    let test_shapes: Vec<Vec<f64>> = test.iter().map(|m| m.shape.clone()).collect();
-    let fe_shapes: Vec<Vec<f64>> = fe.iter().map(|m| m.shape.clone()).collect();
-    let mac = mac_matrix(&test_shapes, &fe_shapes);
-    let method = pairing_method(scene);
-    let found = match method {
-        PairingMethod::Mac => pairing::by_mac(&mac),
-        PairingMethod::FrequencyAndDirection => by_frequency(scene, &test, &fe),
-    };
+    let (method, mac, found) = pair_modes(scene, &test, &fe);
     let standard = scene
         .file
         .correlation
@@ -101,6 +94,24 @@ pub fn run(scene: &Scene) -> Result<Correlation, Error> {
     c.pairs = found.iter().map(|p| pair_row(&c, p.test, p.fe)).collect();
     gate(&mut c, &found);
     Ok(c)
+}
+
+/// The pairing of `correlate` (also what `update` re-pairs by at every iteration): the
+/// method, the MAC matrix (test rows, FE columns) and the pairs.
+pub fn pair_modes(
+    scene: &Scene,
+    test: &[TestMode],
+    fe: &[FeModeAtTest],
+) -> (PairingMethod, Vec<Vec<f64>>, Vec<pairing::Pair>) {
+    let test_shapes: Vec<Vec<f64>> = test.iter().map(|m| m.shape.clone()).collect();
+    let fe_shapes: Vec<Vec<f64>> = fe.iter().map(|m| m.shape.clone()).collect();
+    let mac = mac_matrix(&test_shapes, &fe_shapes);
+    let method = pairing_method(scene);
+    let found = match method {
+        PairingMethod::Mac => pairing::by_mac(&mac),
+        PairingMethod::FrequencyAndDirection => by_frequency(scene, test, fe),
+    };
+    (method, mac, found)
 }
 
 /// Frequency and direction with at most one channel per axis; MAC otherwise.

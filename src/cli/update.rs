@@ -1,0 +1,127 @@
+//! `satqual update SCENE --out UPDATED.toml`: the scene's `[update]` parameters fitted to its
+//! paired test frequencies; prints the parameters, the targets before and after, and the
+//! identifiability figures, and writes the updated scene (never over the input).
+
+use super::{Outcome, Printer};
+use satqual::Error;
+use satqual::pipeline::workflows::update::{self, Update};
+use satqual::report::write_atomic;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (TOML) with [update], [[test_point]] and [test_modes] or [correlation] logs.
+    pub scene: PathBuf,
+    /// The updated scene to write (must not be the input).
+    #[arg(long)]
+    pub out: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(args: Args) -> Result<Outcome, Error> {
+    if same_file(&args.scene, &args.out) {
+        return Err(Error::Other(format!(
+            "--out {} is the input scene: update never overwrites its input; name another file",
+            args.out.display()
+        )));
+    }
+    let scene = satqual::spec::Scene::load(&args.scene)?;
+    let u = update::run(&scene)?;
+    let p = Printer::new(args.json);
+    p.json(&u)?;
+    write_atomic(&args.out, u.updated_text.as_bytes())?;
+    let mut human = summary(&args.scene, &u);
+    human.push(format!("  wrote {}", args.out.display()));
+    p.human(&human.join("\n"));
+    Ok(if u.converged {
+        Outcome::Pass
+    } else {
+        Outcome::GateFailed
+    })
+}
+
+/// Whether two paths name one file (the output may not exist yet: compare its folder).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let canon = |p: &Path| -> Option<PathBuf> {
+        if let Ok(c) = p.canonicalize() {
+            return Some(c);
+        }
+        let dir = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        Some(dir.canonicalize().ok()?.join(p.file_name()?))
+    };
+    a == b || matches!((canon(a), canon(b)), (Some(x), Some(y)) if x == y)
+}
+
+fn summary(scene: &Path, u: &Update) -> Vec<String> {
+    let mut out = vec![format!(
+        "{}: {} parameter(s), {} target(s); {} iteration(s), {} ({}); RMS frequency error {:.3}% -> {:.3}%",
+        scene.display(),
+        u.parameters.len(),
+        u.targets.len(),
+        u.iterations,
+        if u.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        },
+        u.stop,
+        u.residual_before_pct,
+        u.residual_after_pct
+    )];
+    out.push(format!(
+        "  {:<40} {:>13} {:>13} {:>29} {:>27}",
+        "parameter", "start", "updated", "95% interval", "bounds"
+    ));
+    for p in &u.parameters {
+        let ci = match (p.ci_low, p.ci_high) {
+            (Some(a), Some(b)) => format!("[{a:.5e}, {b:.5e}]"),
+            _ => "undefined".into(),
+        };
+        let flag = if p.identifiable {
+            ""
+        } else {
+            "  NOT IDENTIFIABLE"
+        };
+        out.push(format!(
+            "  {:<40} {:>13.6e} {:>13.6e} {:>29} [{:.3e}, {:.3e}]{flag}",
+            p.path, p.start, p.value, ci, p.lower, p.upper
+        ));
+    }
+    out.push(
+        "  test mode  FE mode    test Hz   before Hz    after Hz  error before  error after    MAC"
+            .into(),
+    );
+    for t in &u.targets {
+        out.push(format!(
+            "  {:>9}  {:>7} {:>10.4} {:>11.4} {:>11.4} {:>+12.3}% {:>+11.3}% {:>6.4}",
+            t.test_mode,
+            t.fe_mode,
+            t.test_hz,
+            t.before_hz,
+            t.after_hz,
+            t.error_before_pct,
+            t.error_after_pct,
+            t.mac
+        ));
+    }
+    let sv: Vec<String> = u
+        .singular_values
+        .iter()
+        .map(|s| format!("{s:.4e}"))
+        .collect();
+    out.push(format!(
+        "  singular values of the weighted sensitivity matrix: {}",
+        sv.join(", ")
+    ));
+    for (p, row) in u.parameters.iter().zip(&u.correlation) {
+        let r: Vec<String> = row.iter().map(|c| format!("{c:+.3}")).collect();
+        out.push(format!("  correlation {:<40} {}", p.path, r.join(" ")));
+    }
+    out.extend(u.warnings.iter().map(|w| format!("  warning: {w}")));
+    out.extend(u.notes.iter().map(|n| format!("  note: {n}")));
+    out
+}
