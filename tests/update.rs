@@ -445,3 +445,43 @@ fn the_written_scene_reloads_with_the_reported_frequencies() {
     assert!(stderr.contains("is the input scene"), "{stderr}");
     assert_eq!(std::fs::read(crate::common::repo_path(USC)).unwrap(), input);
 }
+
+/// Running out of iterations is said, not hidden: one iteration from 30% off cannot converge
+/// (the noise-free run needs 5); `converged` is false, a warning says so, and the command exits
+/// 1 while still writing the last iterate.
+#[test]
+fn running_out_of_iterations_is_a_warning_and_exit_code_1() {
+    let test = true_frequencies();
+    let start = [TRUE[0] * 1.3, TRUE[1] * 0.7, TRUE[2] * 1.3];
+    let text = round_trip_scene(
+        start,
+        &test,
+        &update_section("").replace("max_iterations = 50", "max_iterations = 1"),
+    );
+    let u = update::run(&parse(&text)).unwrap();
+    assert!(
+        !u.converged && u.iterations == 1,
+        "{} {}",
+        u.converged,
+        u.iterations
+    );
+    assert!(
+        u.warnings.iter().any(|w| w.starts_with("not converged")),
+        "{:?}",
+        u.warnings
+    );
+    let dir = temp_dir("update-maxit");
+    let (scene, out) = (dir.join("scene.toml"), dir.join("updated.toml"));
+    std::fs::write(&scene, &text).unwrap();
+    let (code, stdout, stderr) = run_text(
+        &[
+            "update",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    assert!(stdout.contains("NOT converged") && out.exists(), "{stdout}");
+}

@@ -172,8 +172,13 @@ fn explain(
     }
     for p in u.parameters.iter().filter(|p| !p.identifiable) {
         u.warnings.push(format!(
-            "`{}` is not identifiable from the targets (it lies along a direction of singular value < 1e-6 of the largest); its value is held by the regularization",
-            p.path
+            "`{}` is not identifiable from the targets (it lies along a direction of singular value < 1e-6 of the largest); {}",
+            p.path,
+            if spec.regularization.is_some() {
+                "its value is held by the regularization"
+            } else {
+                "it became so at the updated values: its value is arbitrary along that direction"
+            }
         ));
     }
     for p in u.parameters.iter().filter(|p| p.ci_low.is_none()) {
