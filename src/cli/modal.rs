@@ -101,7 +101,15 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "{:>5} {:>12} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4} {:>7.4}   (effective-mass fractions)",
         "sum", "", sum[0], sum[1], sum[2], sum[3], sum[4], sum[5]
     );
-    if r.rigid_body_modes > 0 {
+    if r.rigid_body_modes > r.free_rigid_motions {
+        let _ = writeln!(
+            t,
+            "zero-frequency modes: {} at 0 Hz ({}), more than the {} rigid-body motions the supports leave free (see the warning)",
+            r.rigid_body_modes,
+            r.rigid_body_directions.join(", "),
+            r.free_rigid_motions
+        );
+    } else if r.rigid_body_modes > 0 {
         let _ = writeln!(
             t,
             "rigid-body modes: {} at 0 Hz ({}); the model is not supported against them",

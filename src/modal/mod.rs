@@ -159,6 +159,10 @@ pub struct ModalResult {
     /// mass; `none` for a mechanism that moves no mass along any of them.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub rigid_body_directions: Vec<String>,
+    /// Rigid-body motions the supports leave free: zero modes beyond these are mechanisms or
+    /// round-off, and a warning says so.
+    #[serde(skip)]
+    pub free_rigid_motions: usize,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub prestress: Option<PrestressSummary>,
     /// What the dense solver did (shift, MAXRATIO, backward error); absent for the sparse one.
@@ -546,6 +550,7 @@ fn flag_solution(
 ) -> (f64, usize) {
     mark_rigid_body(result, rigid);
     let free = model.free_rigid_motions(red);
+    result.free_rigid_motions = free;
     if rigid > free {
         result
             .warnings
@@ -746,6 +751,7 @@ pub fn modal_result(
         modes,
         rigid_body_modes: 0,
         rigid_body_directions: Vec::new(),
+        free_rigid_motions: 6,
         prestress,
         dense: None,
         warnings: Vec::new(),
