@@ -1,6 +1,9 @@
 //! `satqual update`: model updating against paired test frequencies.
 
 use crate::common::{load, parse, rel, run_text, temp_dir};
+use satqual::catalogue::generated::{
+    UPDATE_TRUE as TRUE, update_round_trip_scene as round_trip_scene, update_section,
+};
 use satqual::pipeline::plan::{ModalOverrides, modal_options};
 use satqual::pipeline::workflows::correlate;
 use satqual::pipeline::workflows::correlate::test_modes;
@@ -80,90 +83,6 @@ fn sensitivities_match_finite_differences_of_eigen_solves() {
     }
 }
 
-/// The true values of the round-trip model: Young's modulus (handbook steel), a root rotational
-/// spring of 2.4·EI/L (EI/L = 4200 N·m: compliant enough to shape the modes) and a 1 kg tip
-/// mass on a 4.71 kg beam. Every number is chosen, not measured.
-const TRUE: [f64; 3] = [210e9, 1.0e4, 1.0];
-/// Parameter paths of the round-trip scene, in the order of [`TRUE`].
-const PATHS: [&str; 3] = [
-    "material.0.youngs_modulus_pa",
-    "spring.0.stiffness.4",
-    "mass.0.mass_kg",
-];
-
-/// A 1 m steel cantilever (30 × 20 mm, bending in z about its weak axis) on root springs to a
-/// supported ground node, with a tip mass and one tip accelerometer along +z; `values` in the
-/// order of [`PATHS`], `test_hz` the `[test_modes]`, `update` appended as written.
-fn round_trip_scene(values: [f64; 3], test_hz: &[f64], update: &str) -> String {
-    let [e, kr, m] = values;
-    let modes: String = test_hz
-        .iter()
-        .map(|f| format!("\n[[test_modes.mode]]\nfrequency_hz = {f:?}\n"))
-        .collect();
-    format!(
-        r#"title = "round trip"
-
-[[material]]
-name = "steel"
-youngs_modulus_pa = {e:?}
-poisson_ratio = 0.3
-density_kg_m3 = 7850
-
-[[section]]
-name = "bar"
-shape = "rectangle"
-width_m = 0.03
-height_m = 0.02
-
-[[node]]
-id = 1
-position_m = [0.0, 0.0, 0.0]
-
-[[node]]
-id = 2
-position_m = [1.0, 0.0, 0.0]
-
-[[node]]
-id = 9
-position_m = [0.0, 0.0, 0.0]
-
-[[beam]]
-nodes = [1, 2]
-section = "bar"
-material = "steel"
-elements = 20
-orientation = [0.0, 0.0, 1.0]
-theory = "euler-bernoulli"
-
-# The root: rigid in effect but for the rotation about y that z-bending loads.
-[[spring]]
-name = "root"
-nodes = [9, 1]
-stiffness = [1e10, 1e10, 1e10, 1e7, {kr:?}, 1e7]
-
-[[support]]
-node = 9
-dofs = "123456"
-
-[[mass]]
-node = 2
-mass_kg = {m:?}
-
-[modal]
-modes = 12
-
-[[test_point]]
-channel = "tip_z"
-node = 2
-direction = "+z"
-
-[test_modes]
-source = "synthetic: the same model at the true values"
-{modes}
-{update}"#
-    )
-}
-
 /// The first five z-bending frequencies of the model at the true values: the synthetic test.
 fn true_frequencies() -> Vec<f64> {
     let scene = parse(&round_trip_scene(TRUE, &[10.0], ""));
@@ -175,20 +94,6 @@ fn true_frequencies() -> Vec<f64> {
         .collect();
     assert_eq!(z.len(), 5, "{:?}", c.fe_modes);
     z
-}
-
-/// `[update]` over the three parameters, bounds a factor 3 either side of the truth.
-fn update_section(extra: &str) -> String {
-    let mut s = String::from("[update]\nmax_iterations = 50\n");
-    s.push_str(extra);
-    for (p, t) in PATHS.iter().zip(TRUE) {
-        s.push_str(&format!(
-            "\n[[update.parameter]]\npath = \"{p}\"\nlower = {:?}\nupper = {:?}\n",
-            t / 3.0,
-            t * 3.0
-        ));
-    }
-    s
 }
 
 /// Noise-free round trip: started 30% off (+30%, −30%, +30%), the update recovers the values

@@ -1,7 +1,7 @@
 //! Work-precision tables (run time against error) for `satqual bench WHAT`: mesh density for
 //! the FE core, the sparse modal solver against scipy's eigsh, the response grids and modal
 //! truncation, the streamed PSD against scipy, the separation integrator's tolerance, and the
-//! modal identification (LSCF) against noise and model order.
+//! modal identification (LSCF) against noise and model order, and model updating.
 //!
 //! Unlike the analyses, a benchmark does I/O: it times runs, writes its table as JSON and
 //! Markdown to the output folder, and may call Python peers (skipped when absent). The
@@ -16,12 +16,21 @@ mod psd;
 mod psd_srs;
 mod response;
 mod separation;
+mod update;
 
 use crate::Error;
 use std::path::Path;
 
 /// The benchmarks, by the name `satqual bench` takes.
-pub const NAMES: [&str; 6] = ["fem", "modal", "response", "psd", "separation", "ema"];
+pub const NAMES: [&str; 7] = [
+    "fem",
+    "modal",
+    "response",
+    "psd",
+    "separation",
+    "ema",
+    "update",
+];
 
 /// A finished benchmark: its table, as written to `<out>/<name>.json` and `<name>.md`.
 #[derive(Debug, Clone)]
@@ -42,6 +51,7 @@ pub fn run(name: &str, out: &Path) -> Result<Table, Error> {
         "psd" => ("psd", psd::run()?),
         "separation" => ("separation", separation::run()?),
         "ema" => ("ema", ema::run()?),
+        "update" => ("update", update::run()?),
         other => {
             return Err(Error::Other(format!(
                 "unknown benchmark `{other}` (one of {})",

@@ -15,7 +15,7 @@ const TRACKED: &str = "reports/bench";
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Which table: fem, modal, response, psd, separation, ema.
+    /// Which table: fem, modal, response, psd, separation, ema, update.
     pub what: String,
     /// Output folder (required unless --update-tracked).
     #[arg(long)]
