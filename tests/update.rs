@@ -8,7 +8,7 @@ use satqual::pipeline::plan::{ModalOverrides, modal_options};
 use satqual::pipeline::workflows::correlate;
 use satqual::pipeline::workflows::correlate::test_modes;
 use satqual::pipeline::workflows::update;
-use satqual::pipeline::workflows::update::problem::{Param, Problem, Target};
+use satqual::pipeline::workflows::update::problem::{Problem, Target};
 use satqual::spec::Scene;
 
 const USC: &str = "test-specs/correlation/usc-beam-update.toml";
@@ -16,27 +16,7 @@ const USC: &str = "test-specs/correlation/usc-beam-update.toml";
 /// The updating problem of a scene with every test mode a target of weight 1.
 fn problem(scene: &Scene) -> Problem<'_> {
     let spec = scene.file.update.clone().expect("[update]");
-    let loc = scene.locator();
-    let params = spec
-        .parameter
-        .iter()
-        .map(|p| {
-            let key = p.key();
-            let start = satqual::spec::sweep::find(loc.doc_item(), &key)
-                .unwrap()
-                .as_value()
-                .and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)))
-                .unwrap();
-            Param {
-                path: p.path.clone(),
-                key,
-                start,
-                lower: p.lower,
-                upper: p.upper,
-                scale: p.scale,
-            }
-        })
-        .collect();
+    let params = update::params(scene, &spec);
     let (test, _) = test_modes::test_modes(scene).unwrap();
     let targets = (0..test.len())
         .map(|t| Target {

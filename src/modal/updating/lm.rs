@@ -156,16 +156,19 @@ fn step(
 mod tests {
     use super::*;
 
+    /// Rosenbrock's function as least squares: r = (10(u₁ − u₀²), 1 − u₀) and its Jacobian.
+    fn rosenbrock(u: &[f64]) -> Result<Evaluation, ()> {
+        Ok(Evaluation {
+            r: DVector::from_vec(vec![10.0 * (u[1] - u[0] * u[0]), 1.0 - u[0]]),
+            j: DMatrix::from_row_slice(2, 2, &[-20.0 * u[0], 10.0, -1.0, 0.0]),
+        })
+    }
+
     /// Rosenbrock as least squares, r = (10(u₁ − u₀²), 1 − u₀): minimum at (1, 1) (Rosenbrock
     /// 1960), reached to 1e-6 from the textbook start (−1.2, 1).
     #[test]
     fn rosenbrock_reaches_its_minimum() {
-        let eval = |u: &[f64]| -> Result<Evaluation, ()> {
-            Ok(Evaluation {
-                r: DVector::from_vec(vec![10.0 * (u[1] - u[0] * u[0]), 1.0 - u[0]]),
-                j: DMatrix::from_row_slice(2, 2, &[-20.0 * u[0], 10.0, -1.0, 0.0]),
-            })
-        };
+        let eval = rosenbrock;
         let o = Options {
             max_iterations: 200,
             regularization: 0.0,
@@ -186,12 +189,7 @@ mod tests {
     /// bound, u = (0.5, 0.25), exactly.
     #[test]
     fn a_bound_holds_the_variable() {
-        let eval = |u: &[f64]| -> Result<Evaluation, ()> {
-            Ok(Evaluation {
-                r: DVector::from_vec(vec![10.0 * (u[1] - u[0] * u[0]), 1.0 - u[0]]),
-                j: DMatrix::from_row_slice(2, 2, &[-20.0 * u[0], 10.0, -1.0, 0.0]),
-            })
-        };
+        let eval = rosenbrock;
         let o = Options {
             max_iterations: 200,
             regularization: 0.0,

@@ -54,7 +54,8 @@ pub fn run(scene: &Scene) -> Result<Update, Error> {
     result::assemble(&problem, &spec, &before, &after, &id, &outcome)
 }
 
-fn params(scene: &Scene, spec: &UpdateSpec) -> Vec<Param> {
+/// The `[[update.parameter]]`s with their starting values read from the scene.
+pub fn params(scene: &Scene, spec: &UpdateSpec) -> Vec<Param> {
     let loc = scene.locator();
     spec.parameter
         .iter()
