@@ -122,3 +122,48 @@ fn json_is_identical_whatever_the_thread_count() {
         );
     }
 }
+
+/// Limit-level sine segments are raised to the qualification input by 1.25
+/// (GSFC-STD-7000A Table 2.4-1); the response is linear in the input, so every peak
+/// acceleration and joint load grows by exactly that factor (to rounding, 1e-12) and the peak
+/// frequencies stay.
+#[test]
+fn limit_level_sine_is_raised_by_the_qualification_factor() {
+    let dir = crate::common::temp_dir("sine-limit");
+    let base =
+        std::fs::read_to_string(crate::common::repo_path("test-specs/shaker-2sat.toml")).unwrap();
+    let limit = base.replacen("basis = \"test\"", "basis = \"limit\"", 1);
+    assert_ne!(limit, base, "the scene names its sine basis");
+    let path = dir.join("limit.toml");
+    std::fs::write(&path, limit).unwrap();
+    let peaks = |scene: &str| {
+        let out = satqual(&["sine", scene, "--axis", "x", "--json"], None);
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout)
+            .unwrap_or_else(|_| panic!("{}", String::from_utf8_lossy(&out.stderr)));
+        let axis = &v["axes"][0];
+        let p: Vec<(f64, f64)> = axis["peaks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| {
+                (
+                    p["frequency_hz"].as_f64().unwrap(),
+                    p["acceleration_g"].as_f64().unwrap(),
+                )
+            })
+            .collect();
+        let tension = axis["interfaces"][0]["max_tension_n"].as_f64().unwrap();
+        (p, tension)
+    };
+    let (given, t_given) = peaks("test-specs/shaker-2sat.toml");
+    let (raised, t_raised) = peaks(path.to_str().unwrap());
+    for (g, r) in given.iter().zip(&raised) {
+        assert!((r.0 - g.0).abs() < 1e-9 * g.0, "{g:?} {r:?}");
+        assert!((r.1 / g.1 - 1.25).abs() < 1e-12, "{g:?} {r:?}");
+    }
+    assert!(
+        (t_raised / t_given - 1.25).abs() < 1e-12,
+        "{t_given} {t_raised}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -119,6 +119,15 @@ impl SineSegment {
             (None, None) => 0.0,
         }
     }
+
+    /// The segment with its level multiplied by `factor`.
+    pub fn scaled(&self, factor: f64) -> SineSegment {
+        SineSegment {
+            displacement_m: self.displacement_m.map(|d| d * factor),
+            acceleration_g: self.acceleration_g.map(|a| a * factor),
+            ..self.clone()
+        }
+    }
 }
 
 /// `[sine]`: the sweep level, contiguous segments, applied along each axis in turn.
@@ -133,10 +142,14 @@ pub struct SineSpec {
     /// with the environment in the report.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub source: Option<String>,
-    /// The test level the segments stand for (a label: the segments are applied as given);
-    /// sets the default sweep rate.
+    /// The test level: sets the default sweep rate, and with `basis = "limit"` the factor on
+    /// the segments.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub level: Option<super::environment::TestLevel>,
+    /// What the segments are: the test input itself (`test`, default) or the limit level
+    /// (maximum expected flight level) that `level` raises to the test input.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub basis: Option<super::environment::SineBasis>,
     /// Logarithmic sweep rate, octaves per minute (reported with the sweep duration; the
     /// steady-state peaks do not depend on it). Default: the level's rate.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -144,17 +157,27 @@ pub struct SineSpec {
 }
 
 impl SineSpec {
-    /// Base acceleration amplitude at `f_hz` (g); 0 outside the profile.
+    /// Base acceleration amplitude applied at `f_hz` (g), the level factor included; 0
+    /// outside the profile.
     pub fn level_g(&self, f_hz: f64) -> f64 {
         let n = self.segment.len();
         for (i, s) in self.segment.iter().enumerate() {
             // Half-open segments, the last one closed: a shared boundary belongs to the
             // segment that starts there.
             if f_hz >= s.from_hz && (f_hz < s.to_hz || (i + 1 == n && f_hz <= s.to_hz)) {
-                return s.level_g(f_hz);
+                return self.level_factor() * s.level_g(f_hz);
             }
         }
         0.0
+    }
+
+    /// Factor from the segments to the applied input: the level's for limit-level segments,
+    /// 1 for test-level ones.
+    pub fn level_factor(&self) -> f64 {
+        match (self.basis.unwrap_or_default(), self.level) {
+            (super::environment::SineBasis::Limit, Some(l)) => l.sine_factor(),
+            _ => 1.0,
+        }
     }
     pub fn band(&self) -> (f64, f64) {
         (

@@ -49,6 +49,15 @@ impl TestLevel {
         }
     }
 
+    /// Factor on limit-level sine segments: 1.25 for qualification and protoflight, 1 for
+    /// acceptance (GSFC-STD-7000A Table 2.4-1, sine vibration: 1.25 × limit level).
+    pub fn sine_factor(self) -> f64 {
+        match self {
+            TestLevel::Acceptance => 1.0,
+            TestLevel::Qualification | TestLevel::Protoflight => 1.25,
+        }
+    }
+
     /// The level's name as the scene writes it.
     pub fn name(self) -> &'static str {
         match self {
@@ -57,6 +66,18 @@ impl TestLevel {
             TestLevel::Acceptance => "acceptance",
         }
     }
+}
+
+/// `[sine] basis`: what the scene's sine segments are.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum SineBasis {
+    /// The test input, applied as given (a test report's or a paper's levels).
+    #[default]
+    Test,
+    /// The limit level (maximum expected flight level, e.g. a launcher's manual), raised to
+    /// the test input by the level's factor.
+    Limit,
 }
 
 /// `[random] weight_reduction`.
@@ -248,22 +269,27 @@ pub struct SineEnvironment {
     pub source: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub level: Option<TestLevel>,
+    pub basis: SineBasis,
+    /// Factor from the scene's segments to `segments` (the level's for limit-level ones).
+    pub level_factor: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sweep_rate_oct_min: Option<f64>,
     /// One sweep through the band at that rate, per axis, s.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub duration_s: Option<f64>,
+    /// The segments as applied (the factor included).
     pub segments: Vec<super::analysis::SineSegment>,
 }
 
 impl SineEnvironment {
-    /// The sine input of `spec`: its segments as given, with the level's sweep rate and the
-    /// time of one logarithmic sweep through the band, 60·log2(f_hi/f_lo)/rate.
+    /// The sine input of `spec`: its segments as applied, with the level's sweep rate and
+    /// the time of one logarithmic sweep through the band, 60·log2(f_hi/f_lo)/rate.
     pub fn of(spec: &super::analysis::SineSpec) -> SineEnvironment {
         let rate = spec
             .sweep_rate_oct_min
             .or(spec.level.map(TestLevel::sweep_rate_oct_min));
         let (lo, hi) = spec.band();
+        let factor = spec.level_factor();
         SineEnvironment {
             axes: spec.axes.clone(),
             source: spec
@@ -271,11 +297,13 @@ impl SineEnvironment {
                 .clone()
                 .unwrap_or_else(|| "the scene's [[sine.segment]] levels".into()),
             level: spec.level,
+            basis: spec.basis.unwrap_or_default(),
+            level_factor: factor,
             sweep_rate_oct_min: rate,
             duration_s: rate
                 .filter(|_| lo > 0.0 && hi > lo)
                 .map(|r| 60.0 * (hi / lo).log2() / r),
-            segments: spec.segment.clone(),
+            segments: spec.segment.iter().map(|s| s.scaled(factor)).collect(),
         }
     }
 }
@@ -396,6 +424,40 @@ mod tests {
         assert!((SineEnvironment::of(&s).duration_s.unwrap() - 64.829).abs() < 1e-3);
         s.level = None;
         assert_eq!(SineEnvironment::of(&s).duration_s, None);
+    }
+
+    /// GSFC-STD-7000A Table 2.4-1, sine vibration: qualification and protoflight at 1.25 ×
+    /// the limit level, acceptance at the limit level. Test-level segments (the default
+    /// basis) are applied as given whatever the level. Exact.
+    #[test]
+    fn limit_level_sine_segments_take_the_levels_factor() {
+        let seg = super::super::analysis::SineSegment {
+            from_hz: 5.0,
+            to_hz: 8.0,
+            displacement_m: Some(1.0e-3),
+            acceleration_g: None,
+        };
+        let mut s = super::super::analysis::SineSpec {
+            axes: vec!["x".into()],
+            segment: vec![seg],
+            level: Some(TestLevel::Qualification),
+            ..Default::default()
+        };
+        let given = s.segment[0].level_g(6.0);
+        assert_eq!(s.level_g(6.0), given);
+        s.basis = Some(SineBasis::Limit);
+        let cases = [
+            (TestLevel::Qualification, 1.25),
+            (TestLevel::Protoflight, 1.25),
+            (TestLevel::Acceptance, 1.0),
+        ];
+        for (level, factor) in cases {
+            s.level = Some(level);
+            assert_eq!(s.level_g(6.0), factor * given, "{level:?}");
+            let e = SineEnvironment::of(&s);
+            assert_eq!(e.level_factor, factor);
+            assert_eq!(e.segments[0].displacement_m, Some(factor * 1.0e-3));
+        }
     }
 
     #[test]

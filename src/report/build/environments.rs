@@ -4,7 +4,7 @@
 use super::number;
 use crate::report::Qualification;
 use crate::report::document::{Block, Column, Section, Table, Text};
-use crate::spec::environment::{RandomEnvironment, SineEnvironment};
+use crate::spec::environment::{RandomEnvironment, SineBasis, SineEnvironment};
 
 /// The section, when a response analysis ran.
 pub fn section(q: &Qualification) -> Option<Section> {
@@ -48,6 +48,13 @@ fn sine(s: &SineEnvironment) -> Vec<Block> {
     if let Some(l) = s.level {
         what.push(format!("{} level", l.name()));
     }
+    what.push(match s.basis {
+        SineBasis::Test => "segments applied as given (test level)".into(),
+        SineBasis::Limit => format!(
+            "limit-level segments × {} (GSFC-STD-7000A Table 2.4-1), shown as applied",
+            s.level_factor
+        ),
+    });
     if let (Some(r), Some(d)) = (s.sweep_rate_oct_min, s.duration_s) {
         what.push(format!("{r} oct/min, {d:.0} s per sweep and axis"));
     }
