@@ -244,6 +244,8 @@ refused_input_cases! {
         contains ["stack.interface.shear_key.material", "material `ti` is not defined"];
     shear_key_with_a_zero_area: "shear_area_m2 = 6.715e-4" => "shear_area_m2 = 0.0",
         contains ["stack.interface.shear_key.shear_area_m2", "must be positive"];
+    buckling_mesh_of_no_elements: "column_elements = 1" => "column_elements = 1\nbuckling_column_elements = 0",
+        contains ["stack.buckling_column_elements", "at least 1"];
     shear_key_with_an_unknown_key: "bearing_area_m2 = 3.6e-4" => "bearing_area_m2 = 3.6e-4, length_m = 0.01",
         contains ["unknown field `length_m`"];
 }
@@ -363,4 +365,37 @@ fn buckling_is_refused_before_the_modes_are_extracted() {
     let sys = analyze(&model, &opts(false)).unwrap_or_else(|e| panic!("{e}"));
     let factor = sys.result.prestress.unwrap().buckling_factor.unwrap();
     assert!(factor < 1.0, "factor {factor}");
+}
+
+/// The buckling factor is taken on `buckling_column_elements` per half column (default 4),
+/// the modes on `column_elements`. References: the same stack meshed at 4 for the modes too
+/// (the same buckling model, solved once sparse and once by the modes' solver: 1e-9), and the
+/// convergence table of docs/fem.md (`satqual modal`, 4-decimal values: 48.9080 at 1 element,
+/// 48.6928 at 4; to 1e-4 of the last printed digit).
+#[test]
+fn the_buckling_factor_is_taken_on_the_finer_column_mesh() {
+    let factor = |scene: &Scene| {
+        let (_, sys) = solve(scene);
+        let ps = sys.result.prestress.expect("preloaded");
+        (ps.buckling_factor.expect("buckles"), ps.buckling_model)
+    };
+    let scene = load("test-specs/paper-stack.toml");
+    let (default, on) = factor(&scene);
+    assert!(on.unwrap().contains("4 elements per half column"));
+    let fine = with_text(&scene, "column_elements = 1", "column_elements = 4");
+    let (fine_factor, fine_on) = factor(&fine);
+    assert!(fine_on.is_none(), "the modes' model is the buckling model");
+    assert!(
+        (default - fine_factor).abs() < 1e-9 * fine_factor,
+        "{default} {fine_factor}"
+    );
+    assert!((default - 48.6928).abs() < 1e-4, "{default}");
+    let coarse = with_text(
+        &scene,
+        "column_elements = 1",
+        "column_elements = 1\nbuckling_column_elements = 1",
+    );
+    let (coarse_factor, coarse_on) = factor(&coarse);
+    assert!(coarse_on.is_none());
+    assert!((coarse_factor - 48.9080).abs() < 1e-4, "{coarse_factor}");
 }

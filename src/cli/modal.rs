@@ -125,6 +125,9 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
                     "prestress: buckling factor {l:.6} (margin {:+.1}%)",
                     (l - 1.0) * 100.0
                 );
+                if let Some(on) = &ps.buckling_model {
+                    let _ = writeln!(t, "  taken on {on}");
+                }
             }
             None => {
                 let _ = writeln!(

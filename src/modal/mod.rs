@@ -129,6 +129,9 @@ pub struct PrestressSummary {
     /// Smallest λ with (K + λ·K_G)·φ = 0: the static loads may be multiplied by λ before the
     /// structure buckles. `None` when the prestress does not destabilise it.
     pub buckling_factor: Option<f64>,
+    /// The model the factor was taken on, when not the modes' own (a finer column mesh).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub buckling_model: Option<String>,
     pub members: Vec<MemberForce>,
     /// Internal forces of the springs (joints), k·(u₂ − u₁) per global component.
     pub springs: Vec<SpringForce>,
@@ -402,12 +405,30 @@ fn solve_prestress(
         .collect();
     let summary = PrestressSummary {
         buckling_factor: lambda,
+        buckling_model: None,
         members,
         springs,
         element_axial_n: axial,
         displacement: u,
     };
     Ok((summary, kg))
+}
+
+/// The buckling factor of a model under its static loads alone (no modes): the static
+/// solve, the geometric stiffness of its axial forces and the buckling eigenproblem, on the
+/// sparse path above `AUTO_DENSE_DOFS`. `None` when the loads do not destabilise it (or it
+/// has none).
+pub fn buckling_factor_of(model: &FeModel) -> Result<Option<f64>, crate::Error> {
+    let red = model.reduction()?;
+    let loads = model.load_vector();
+    if red.n_red == 0 || loads.iter().all(|&f| f == 0.0) {
+        return Ok(None);
+    }
+    let use_sparse = red.n_red > AUTO_DENSE_DOFS;
+    let k0 = red.reduce(&model.stiffness());
+    let u = red.expand(&static_displacement(model, &red, &loads, use_sparse)?);
+    let kg = red.reduce(&model.geometric_stiffness(&element_axial_forces(model, &u)));
+    buckling(model, &red, &k0, &kg, use_sparse)
 }
 
 /// The reduced static displacement under the loads. The static solve cuts the preloaded

@@ -149,19 +149,10 @@ impl Scene {
         let file: SceneFile = toml::from_str(text).map_err(|e| loc.toml_error(&e))?;
         let limits = file.limits();
         limits.validate(&loc)?;
-        let mut model = match &file.stack {
-            Some(stack) => {
-                stack.validate(&file.material, &limits, &loc)?;
-                let mut m = file.clone();
-                m.stack = None;
-                stack.expand_into(&mut m);
-                m
-            }
-            None => file.clone(),
-        };
-        // The generic model is one point of the design space; `[sweep]` stays with the file.
-        model.sweep = None;
-        model.update = None;
+        if let Some(stack) = &file.stack {
+            stack.validate(&file.material, &limits, &loc)?;
+        }
+        let mut model = generic_model(&file, file.stack.as_ref());
         model::validate(&model, &loc)?;
         correlation::validate(&file, &model, &loc)?;
         if let Some(u) = &file.update {
@@ -190,6 +181,15 @@ impl Scene {
         })
     }
 
+    /// The generic model with the stack meshed for its buckling factor, when the scene asks
+    /// for a finer column mesh there than for the modes (`StackSpec::buckling_stack`).
+    pub fn buckling_model(&self) -> Option<SceneFile> {
+        let fine = self.file.stack.as_ref()?.buckling_stack()?;
+        let mut m = generic_model(&self.file, Some(&fine));
+        correlation::add_sensor_masses(&self.file, &mut m);
+        Some(m)
+    }
+
     /// A locator for errors found after loading (e.g. a massless DOF at a node).
     pub fn locator(&self) -> Locator {
         Locator::new(&self.path, &self.text).expect("scene text parsed once already")
@@ -202,6 +202,19 @@ impl Scene {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "scene".into())
     }
+}
+
+/// The generic model of `file`: the file itself, or with `stack` expanded. It is one point of
+/// the design space: `[sweep]` and `[update]` stay with the file.
+fn generic_model(file: &SceneFile, stack: Option<&stack::StackSpec>) -> SceneFile {
+    let mut m = file.clone();
+    if let Some(stack) = stack {
+        m.stack = None;
+        stack.expand_into(&mut m);
+    }
+    m.sweep = None;
+    m.update = None;
+    m
 }
 
 /// Resolves dotted key paths and byte offsets of one scene text to lines and columns.

@@ -35,8 +35,42 @@ pub fn modal_with_solver(
 /// The modal analysis of a scene with resolved options.
 pub fn run(scene: &Scene, opts: &ModalOptions) -> Result<(FeModel, ModalSystem), Error> {
     let model = fe_model(scene)?;
-    let sys = crate::modal::analyze(&model, opts).map_err(|e| locate_modal_error(scene, e))?;
+    let mut sys = crate::modal::analyze(&model, opts).map_err(|e| locate_modal_error(scene, e))?;
+    refine_buckling(scene, &mut sys, opts)?;
     Ok((model, sys))
+}
+
+/// The buckling factor retaken on the scene's buckling mesh, when it has one finer than the
+/// modes' (`stack.buckling_column_elements`); past buckling there is the same located error
+/// as on the modes' model.
+fn refine_buckling(scene: &Scene, sys: &mut ModalSystem, opts: &ModalOptions) -> Result<(), Error> {
+    let (Some(prestress), Some(fine)) = (sys.result.prestress.as_mut(), scene.buckling_model())
+    else {
+        return Ok(());
+    };
+    let model = FeModel::from_scene(&fine).map_err(|e| locate(scene, e))?;
+    let factor =
+        crate::modal::buckling_factor_of(&model).map_err(|e| locate_modal_error(scene, e))?;
+    if opts.stop_beyond_buckling
+        && let Some(f) = factor
+        && f < 1.0
+    {
+        return Err(locate_modal_error(
+            scene,
+            ModalError::BeyondBuckling { factor: f }.into(),
+        ));
+    }
+    let stack = scene
+        .file
+        .stack
+        .as_ref()
+        .expect("a buckling model comes from [stack]");
+    prestress.buckling_factor = factor;
+    prestress.buckling_model = Some(format!(
+        "the stack with {} elements per half column (stack.buckling_column_elements; the modes' model has {})",
+        stack.buckling_column_elements, stack.column_elements
+    ));
+    Ok(())
 }
 
 /// The FE model of a scene, with FE errors located in the scene.

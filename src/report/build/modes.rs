@@ -19,8 +19,12 @@ pub fn section(q: &Qualification) -> Option<Section> {
         r.solver
     )))];
     if let Some(ps) = &r.prestress {
+        let on = ps
+            .buckling_model
+            .as_ref()
+            .map_or(String::new(), |m| format!(", taken on {m}"));
         blocks.push(Block::Paragraph(Text::plain(format!(
-            "Buckling factor under the preload: {}.",
+            "Buckling factor under the preload: {}{on}.",
             ps.buckling_factor.map(number).unwrap_or("none".into())
         ))));
     }
