@@ -50,6 +50,12 @@ struct StackRow {
     ratio_satqual_over_eigsh: Option<f64>,
     max_rel_freq_diff_vs_eigsh: Option<f64>,
     eigsh_note: Option<String>,
+    /// `satqual modal --fmax` as a user runs it, whole process (start, scene, solve, output).
+    cli_time_s: Option<f64>,
+    /// LAPACK `eigh(K, M, subset_by_value)` (scipy, one OpenBLAS thread) on the same matrices,
+    /// eigenvectors included, up to `DENSE_MAX_DOFS`.
+    lapack_time_s: Option<f64>,
+    ratio_cli_over_lapack: Option<f64>,
     /// How the row's model differs from the family's (the bar–bore contact closed).
     model_note: Option<String>,
 }
@@ -71,6 +77,9 @@ impl StackRow {
             ratio_satqual_over_eigsh: None,
             max_rel_freq_diff_vs_eigsh: None,
             eigsh_note: Some(format!("satqual failed: {error}")),
+            cli_time_s: None,
+            lapack_time_s: None,
+            ratio_cli_over_lapack: None,
             model_note: None,
         }
     }
@@ -231,6 +240,9 @@ fn bench_stack(
         ratio_satqual_over_eigsh: None,
         max_rel_freq_diff_vs_eigsh: None,
         eigsh_note: None,
+        cli_time_s: cli_time(&path),
+        lapack_time_s: None,
+        ratio_cli_over_lapack: None,
         model_note: None,
     };
     match python {
@@ -244,7 +256,9 @@ fn bench_stack(
                 "K.mtx"
             };
             match eigsh(py, &dir, kfile, r.modes.len(), r.dofs) {
-                Ok((t, f)) => {
+                Ok((t, f, lapack)) => {
+                    row.lapack_time_s = lapack;
+                    row.ratio_cli_over_lapack = row.cli_time_s.zip(lapack).map(|(c, l)| c / l);
                     let ours: Vec<f64> = r.modes.iter().map(|m| m.frequency_hz).collect();
                     let diff = ours
                         .iter()
@@ -274,7 +288,11 @@ fn markdown(r: &Report) -> String {
          eigenvalue-error bound, see `modal::sparse`). Model: {}. \
          satqual time: `modal::analyze` end to end (assembly, prestress static solve, buckling, \
          eigen-solve, effective masses); eigsh time: the `eigsh` call alone (its LU included, \
-         reading the files excluded). One run each, wall clock, on this machine ({} cores, shared: \
+         reading the files excluded). `satqual modal` process: the command as a user runs it \
+         (`--fmax`, the auto solver, JSON out), whole process from start to exit. LAPACK: \
+         `scipy.linalg.eigh(K, M, subset_by_value=(−∞, (2π·fmax)²))` with eigenvectors on the \
+         same matrices, dense copies made before the clock starts. eigsh and LAPACK on one \
+         OpenBLAS thread. One run each, wall clock, on this machine ({} cores, shared: \
          load average {} before and {} after the run).\n",
         r.fmax_hz,
         r.tolerance,
@@ -287,14 +305,17 @@ fn markdown(r: &Report) -> String {
     );
     let _ = writeln!(
         s,
-        "| satellites | DOFs | modes < fmax | Sturm count | satqual [s] | dense [s] | peak mem [MB] | eigsh [s] | satqual/eigsh | max rel Δf | note |"
+        "| satellites | DOFs | modes < fmax | Sturm count | satqual [s] | dense [s] | peak mem [MB] | eigsh [s] | satqual/eigsh | max rel Δf | `satqual modal` process [s] | LAPACK eigh subset [s] | process/LAPACK | note |"
     );
-    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    let _ = writeln!(
+        s,
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+    );
     let opt = |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or("–".into());
     for row in &r.stacks {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {:.3} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             row.satellites,
             row.dofs,
             row.modes_below_fmax,
@@ -307,6 +328,9 @@ fn markdown(r: &Report) -> String {
             row.max_rel_freq_diff_vs_eigsh
                 .map(|x| format!("{x:.1e}"))
                 .unwrap_or("–".into()),
+            opt(row.cli_time_s, 3),
+            opt(row.lapack_time_s, 3),
+            opt(row.ratio_cli_over_lapack, 2),
             [row.model_note.clone(), row.eigsh_note.clone()]
                 .into_iter()
                 .flatten()
@@ -387,14 +411,33 @@ fn python_with_scipy() -> Option<PathBuf> {
     ok.then(|| PathBuf::from("python3"))
 }
 
-/// Runs eigsh in shift-invert mode for the lowest `k` modes; returns (seconds, frequencies).
+/// `satqual modal SCENE --fmax FMAX --json` by this executable, output discarded: the wall
+/// time of the whole process, as a user sees it. `None` when it does not run.
+fn cli_time(scene: &Path) -> Option<f64> {
+    let exe = std::env::current_exe().ok()?;
+    let t0 = Instant::now();
+    let status = std::process::Command::new(exe)
+        .arg("modal")
+        .arg(scene)
+        .args(["--fmax", &FMAX_HZ.to_string(), "--json"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .ok()?;
+    let t = t0.elapsed().as_secs_f64();
+    status.success().then_some(t)
+}
+
+/// Runs eigsh in shift-invert mode for the lowest `k` modes, and up to `DENSE_MAX_DOFS`
+/// LAPACK's subset eigh; returns (eigsh seconds, eigsh frequencies, LAPACK seconds). Both on
+/// one OpenBLAS thread, their fastest setting on this shared 2-core machine.
 fn eigsh(
     py: &Path,
     dir: &Path,
     kfile: &str,
     k: usize,
     n: usize,
-) -> Result<(f64, Vec<f64>), String> {
+) -> Result<(f64, Vec<f64>, Option<f64>), String> {
     if k == 0 || k >= n {
         return Err(format!("eigsh needs 0 < k < n (k = {k}, n = {n})"));
     }
@@ -407,15 +450,26 @@ t = time.perf_counter()
 w = sla.eigsh(K, k={kk}, M=M, sigma=-1.0, which="LM", tol={tol}, return_eigenvectors=False)
 t = time.perf_counter() - t
 f = np.sort(np.sign(w) * np.sqrt(np.abs(w)) / (2 * np.pi))
-print(json.dumps({{"time": t, "freq": f.tolist()}}))
+lapack = None
+if K.shape[0] <= {dense_max}:
+    import scipy.linalg as la
+    Kd = K.toarray(); Md = M.toarray(); lmax = (2 * np.pi * {fmax}) ** 2
+    t2 = time.perf_counter()
+    la.eigh(Kd, Md, subset_by_value=(-np.inf, lmax))
+    lapack = time.perf_counter() - t2
+print(json.dumps({{"time": t, "freq": f.tolist(), "lapack": lapack}}))
 "#,
         k = dir.join(kfile).display(),
         m = dir.join("M.mtx").display(),
         kk = k,
-        tol = TOL
+        tol = TOL,
+        dense_max = DENSE_MAX_DOFS,
+        fmax = FMAX_HZ
     );
     let mut child = std::process::Command::new(py)
         .args(["-c", &script])
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .env("OMP_NUM_THREADS", "1")
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -454,7 +508,7 @@ print(json.dumps({{"time": t, "freq": f.tolist()}}))
         .iter()
         .filter_map(|x| x.as_f64())
         .collect();
-    Ok((t, f))
+    Ok((t, f, v["lapack"].as_f64()))
 }
 
 /// The stack scenes: the paper stack with `satellites = N`.
