@@ -63,6 +63,7 @@ mod signal_sweep;
 mod signal_timing;
 mod signal_welch;
 mod update;
+mod update_logs;
 
 // Hostile input: limits, plausibility, finite outputs, mutation fuzzing.
 mod fuzz;

@@ -258,11 +258,109 @@ pub const UPDATE_PATHS: [&str; 3] = [
 /// supported ground node, with a tip mass and one tip accelerometer along +z; `values` in the
 /// order of [`UPDATE_PATHS`], `test_hz` the `[test_modes]`, `update` appended as written.
 pub fn update_round_trip_scene(values: [f64; 3], test_hz: &[f64], update: &str) -> String {
-    let [e, kr, m] = values;
     let modes: String = test_hz
         .iter()
         .map(|f| format!("\n[[test_modes.mode]]\nfrequency_hz = {f:?}\n"))
         .collect();
+    let model = update_beam(values, &[(2, 1.0, 20)]);
+    format!(
+        r#"{model}
+[[test_point]]
+channel = "tip_z"
+node = 2
+direction = "+z"
+
+[test_modes]
+source = "synthetic: the same model at the true values"
+{modes}
+{update}"#
+    )
+}
+
+/// Accelerometers of the log round trip along the beam, +z: (channel, node id, x in m). The
+/// stations are multiples of the 0.05 m element, so the mesh is that of the one-point scene.
+pub const UPDATE_LOG_POINTS: [(&str, i64, f64); 4] = [
+    ("z30", 3, 0.3),
+    ("z55", 4, 0.55),
+    ("z80", 5, 0.8),
+    ("tip_z", 2, 1.0),
+];
+/// The base-acceleration channel of the synthetic logs.
+pub const UPDATE_LOG_CONTROL: &str = "base_z";
+/// Modal damping ratio the synthetic logs are made with (a chosen, typical structural value).
+pub const UPDATE_LOG_ZETA: f64 = 0.02;
+
+/// The round-trip cantilever with the accelerometers of [`UPDATE_LOG_POINTS`], each also a
+/// `[[response]]` point (so the response code recovers its absolute acceleration), the modal
+/// damping the logs are made with, and `logs` (`(name, file, kind)`) as `[[test_log]]`s whose
+/// FRFs `[correlation]` identifies the test modes from over `band_hz` (no `[correlation]` without logs); `update`
+/// appended.
+pub fn update_log_scene(
+    values: [f64; 3],
+    logs: &[(&str, &str, &str)],
+    nperseg: usize,
+    band_hz: [f64; 2],
+    update: &str,
+) -> String {
+    let mut stations = Vec::new();
+    let mut x0 = 0.0;
+    for &(_, node, x) in &UPDATE_LOG_POINTS {
+        stations.push((node, x, ((x - x0) / 0.05).round() as usize));
+        x0 = x;
+    }
+    let mut s = update_beam(values, &stations);
+    let _ = writeln!(s, "\n[damping]\nzeta = {UPDATE_LOG_ZETA:?}");
+    let responses: Vec<String> = UPDATE_LOG_POINTS
+        .iter()
+        .map(|p| format!("{:?}", p.0))
+        .collect();
+    for (channel, node, _) in UPDATE_LOG_POINTS {
+        let _ = writeln!(s, "\n[[response]]\nname = \"{channel}\"\nnode = {node}");
+        let _ = writeln!(
+            s,
+            "\n[[test_point]]\nchannel = \"{channel}\"\nnode = {node}\ndirection = \"+z\""
+        );
+    }
+    for (name, file, kind) in logs {
+        let _ = writeln!(
+            s,
+            "\n[[test_log]]\nname = \"{name}\"\nfile = {file:?}\nkind = \"{kind}\"\ncontrol = \"{UPDATE_LOG_CONTROL}\"\nresponses = [{}]\nnperseg = {nperseg}",
+            responses.join(", ")
+        );
+    }
+    let names: Vec<String> = logs.iter().map(|l| format!("{:?}", l.0)).collect();
+    if !names.is_empty() {
+        let _ = writeln!(
+            s,
+            "\n[correlation]\nlogs = [{}]\nfmin_hz = {:?}\nfmax_hz = {:?}\n",
+            names.join(", "),
+            band_hz[0],
+            band_hz[1]
+        );
+    }
+    s.push_str(update);
+    s
+}
+
+/// The model shared by the round-trip scenes, up to `[modal]`: the beam from node 1 at x = 0
+/// through `stations` (node id, x in m, elements from the previous station).
+fn update_beam(values: [f64; 3], stations: &[(i64, f64, usize)]) -> String {
+    let [e, kr, m] = values;
+    let tip = stations.last().expect("at least the tip").0;
+    let mut nodes = String::new();
+    let mut beams = String::new();
+    let mut from = 1;
+    for &(id, x, elements) in stations {
+        let _ = write!(
+            nodes,
+            "[[node]]\nid = {id}\nposition_m = [{x:?}, 0.0, 0.0]\n\n"
+        );
+        let _ = write!(
+            beams,
+            "[[beam]]\nnodes = [{from}, {id}]\nsection = \"bar\"\nmaterial = \"steel\"\nelements = {elements}\norientation = [0.0, 0.0, 1.0]\ntheory = \"euler-bernoulli\"\n\n"
+        );
+        from = id;
+    }
     format!(
         r#"title = "round trip"
 
@@ -282,23 +380,11 @@ height_m = 0.02
 id = 1
 position_m = [0.0, 0.0, 0.0]
 
-[[node]]
-id = 2
-position_m = [1.0, 0.0, 0.0]
-
-[[node]]
+{nodes}[[node]]
 id = 9
 position_m = [0.0, 0.0, 0.0]
 
-[[beam]]
-nodes = [1, 2]
-section = "bar"
-material = "steel"
-elements = 20
-orientation = [0.0, 0.0, 1.0]
-theory = "euler-bernoulli"
-
-# The root: rigid in effect but for the rotation about y that z-bending loads.
+{beams}# The root: rigid in effect but for the rotation about y that z-bending loads.
 [[spring]]
 name = "root"
 nodes = [9, 1]
@@ -309,21 +395,12 @@ node = 9
 dofs = "123456"
 
 [[mass]]
-node = 2
+node = {tip}
 mass_kg = {m:?}
 
 [modal]
 modes = 12
-
-[[test_point]]
-channel = "tip_z"
-node = 2
-direction = "+z"
-
-[test_modes]
-source = "synthetic: the same model at the true values"
-{modes}
-{update}"#
+"#
     )
 }
 
