@@ -417,3 +417,81 @@ pub fn update_section(extra: &str) -> String {
     }
     s
 }
+
+/// Parameters of the stack update benchmark, their values in the paper stack, and the factor
+/// the start is off by: joint bending and axial stiffness, satellite mass and column diameter,
+/// the four the stack's lateral modes feel (the preload is left out: the sensitivities do not
+/// carry the prestress stiffness).
+pub const STACK_UPDATE_PARAMS: [(&str, f64, f64); 4] = [
+    ("stack.interface.rotational_stiffness_n_m_rad", 9.7e4, 1.3),
+    ("stack.satellite_mass_kg", 120.0, 0.7),
+    ("stack.interface.axial_stiffness_n_m", 8.35e6, 1.3),
+    ("stack.column_outer_diameter_m", 0.050, 0.7),
+];
+
+/// `text` with the first line that sets `key` set to `value` instead.
+fn with_first_value(text: &str, key: &str, value: f64) -> String {
+    with_first_line(text, key, &format!("{key} = {value:?}"))
+}
+
+/// `text` with the first line that sets `key` replaced by `new_line`.
+fn with_first_line(text: &str, key: &str, new_line: &str) -> String {
+    let mut done = false;
+    let mut s = String::with_capacity(text.len());
+    for line in text.lines() {
+        if !done && starts_with_key(line, key) {
+            let _ = writeln!(s, "{new_line}");
+            done = true;
+        } else {
+            let _ = writeln!(s, "{line}");
+        }
+    }
+    s
+}
+
+/// The paper stack (`base`) with `n` satellites, its modal analysis cut to the lowest `modes`
+/// modes and every other analysis dropped, a triaxial accelerometer on satellite 1 (node
+/// 1000), and the parameters of [`STACK_UPDATE_PARAMS`] set to `values`.
+pub fn stack_update_model(base: &str, n: usize, modes: usize, values: &[f64; 4]) -> String {
+    let stack = stack_with_satellites(base, n);
+    let cut = stack.find("\n[separation]").unwrap_or(stack.len());
+    let mut s = with_first_line(&stack[..cut], "fmax_hz", &format!("modes = {modes}"));
+    for ((path, _, _), v) in STACK_UPDATE_PARAMS.iter().zip(values) {
+        let key = path.rsplit('.').next().expect("a dotted path");
+        s = with_first_value(&s, key, *v);
+    }
+    for axis in ["x", "y", "z"] {
+        let _ = write!(
+            s,
+            "\n[[test_point]]\nchannel = \"sat1_{axis}\"\nnode = 1000\ndirection = \"+{axis}\"\n"
+        );
+    }
+    s
+}
+
+/// `[test_modes]` of (frequency, shape) pairs and the `[update]` over
+/// [`STACK_UPDATE_PARAMS`], bounds a factor 3 either side (the column diameter ±50 %).
+pub fn stack_update_tables(test: &[(f64, Vec<f64>)]) -> String {
+    let mut s = String::from(
+        "\n[test_modes]\nsource = \"synthetic: the same stack at the paper stack's values\"\n",
+    );
+    for (f, shape) in test {
+        let _ = write!(
+            s,
+            "[[test_modes.mode]]\nfrequency_hz = {f:?}\nshape = {shape:?}\n"
+        );
+    }
+    s.push_str("\n[update]\nmax_iterations = 50\n");
+    for (path, v, _) in STACK_UPDATE_PARAMS {
+        let (lo, hi) = if path.ends_with("diameter_m") {
+            (v / 1.5, v * 1.5)
+        } else {
+            (v / 3.0, v * 3.0)
+        };
+        let _ = write!(
+            s,
+            "[[update.parameter]]\npath = \"{path}\"\nlower = {lo:?}\nupper = {hi:?}\n"
+        );
+    }
+    s
+}
