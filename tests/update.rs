@@ -200,6 +200,29 @@ fn a_parameter_no_paired_mode_feels_is_not_identifiable() {
     );
 }
 
+/// The preload moves the prestress stiffness K_G, which the sensitivities do not carry: its
+/// column would read zero and call it unidentifiable. The update refuses it instead, at its
+/// line, saying why (the six-satellite paper stack, one test mode at its first x mode).
+#[test]
+fn a_preload_parameter_is_refused_with_the_reason() {
+    use satqual::catalogue::generated::{STACK_UPDATE_PARAMS, stack_update_model};
+    let base =
+        std::fs::read_to_string(crate::common::repo_path("test-specs/paper-stack.toml")).unwrap();
+    let values = STACK_UPDATE_PARAMS.map(|p| p.1);
+    let text = stack_update_model(&base, 6, 8, &values)
+        + "\n[test_modes]\n[[test_modes.mode]]\nfrequency_hz = 6.0\nshape = [1.0, 0.0, 0.0]\n"
+        + "\n[update]\n[[update.parameter]]\npath = \"stack.preload_total_n\"\nlower = 2e4\nupper = 9e4\n";
+    let e = update::run(&parse(&text))
+        .expect_err("must refuse")
+        .to_string();
+    let line = crate::common::line_of(&text, "stack.preload_total_n");
+    assert!(e.starts_with(&format!("generated.toml:{line}:")), "{e}");
+    assert!(
+        e.contains("changes the static loads") && e.contains("prestress"),
+        "{e}"
+    );
+}
+
 /// Bad `[update]` keys are errors at their line, naming the key.
 #[test]
 fn bad_update_keys_are_located() {

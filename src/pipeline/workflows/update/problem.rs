@@ -173,6 +173,9 @@ impl Problem<'_> {
             let (plo, phi) = ((p - d).max(param.lower), (p + d).min(param.upper));
             let lo = self.matrices(s, c, plo)?;
             let hi = self.matrices(s, c, phi)?;
+            if lo.2 != hi.2 {
+                return Err(self.prestress_parameter(c));
+            }
             let (lo, hi) = (
                 Assembled {
                     p: plo,
@@ -195,8 +198,27 @@ impl Problem<'_> {
         Ok(j)
     }
 
-    /// Reduced K and M with parameter `c` at `p`, the others at `s.values`.
-    fn matrices(&self, s: &Solved, c: usize, p: f64) -> Result<(Triplets, Triplets), Error> {
+    /// The error for a parameter that moves the static loads (a preload): the prestress
+    /// stiffness K_G it changes is not in the sensitivities, whose column would read zero.
+    fn prestress_parameter(&self, c: usize) -> Error {
+        let msg = format!(
+            "`{}` changes the static loads (the preload): the sensitivities carry K and M, not the prestress stiffness it changes, so it cannot be updated; fix it at its measured value",
+            self.params[c].path
+        );
+        self.base
+            .locator()
+            .err(&format!("update.parameter[{c}].path"), msg)
+            .into()
+    }
+
+    /// Reduced K and M with parameter `c` at `p`, the others at `s.values`, and the model's
+    /// static load vector there.
+    fn matrices(
+        &self,
+        s: &Solved,
+        c: usize,
+        p: f64,
+    ) -> Result<(Triplets, Triplets, Vec<f64>), Error> {
         let mut values = s.values.clone();
         values[c] = p;
         let scene = self.scene_at(&values)?;
@@ -213,7 +235,11 @@ impl Problem<'_> {
                 .err(&format!("update.parameter[{c}].path"), msg)
                 .into());
         }
-        Ok((red.reduce(&model.stiffness()), red.reduce(&model.mass())))
+        Ok((
+            red.reduce(&model.stiffness()),
+            red.reduce(&model.mass()),
+            model.load_vector(),
+        ))
     }
 }
 
