@@ -76,6 +76,19 @@ pub fn line_of(text: &str, needle: &str) -> usize {
         + 1
 }
 
+/// Asserts that `error` is located in the generated scene `text` (`generated.toml`, see
+/// [`parse`]) at the first line containing `needle`, and contains every one of `parts`.
+pub fn assert_error_at(error: &str, text: &str, needle: &str, parts: &[&str]) {
+    let line = line_of(text, needle);
+    assert!(
+        error.starts_with(&format!("generated.toml:{line}:")),
+        "{error}"
+    );
+    for part in parts {
+        assert!(error.contains(part), "{part:?} not in: {error}");
+    }
+}
+
 /// |a − b| / |b|.
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
