@@ -182,11 +182,7 @@ impl Sim<'_> {
     #[inline]
     fn edge_velocity(&self, c0: &Frame, s: &Frame, rb: V3, r: &mut EdgeRigid) {
         r.vp = s.v + s.w.cross(&rb);
-        r.vrel = if self.carrier_at_rest {
-            r.vp
-        } else {
-            c0.r.tr_mul(&(r.vp - c0.v - c0.w.cross(&(r.p - c0.x))))
-        };
+        r.vrel = self.velocity_in_carrier(c0, r.vp, r.p);
     }
 
     /// False when the edge certainly does not touch (δ < 0), decided without the square root
@@ -248,12 +244,17 @@ impl Sim<'_> {
             return ek;
         }
         if self.m.bars.is_some() {
-            for mo in 0..nv {
-                for d in 0..2 {
-                    let qi = self.qidx(j, d, mo);
-                    ek.slope[d] += r.dphi[mo] * y[qi];
-                    ek.udot[d] += r.phi[mo] * y[qi + 8 * nv];
-                }
+            // Bar j's modal coordinates (x modes, then y) and their rates; zipped so that no
+            // index is checked (this runs for every edge at every step), each sum in mode order.
+            let q0 = self.qidx(j, 0, 0);
+            let (qx, qy) = y[q0..q0 + 2 * nv].split_at(nv);
+            let (vx, vy) = y[q0 + 8 * nv..q0 + 10 * nv].split_at(nv);
+            let modes = r.phi.iter().zip(&r.dphi).zip(qx.iter().zip(qy));
+            for (((p, dp), (ax, ay)), (bx, by)) in modes.zip(vx.iter().zip(vy)) {
+                ek.slope[0] += dp * ax;
+                ek.udot[0] += p * bx;
+                ek.slope[1] += dp * ay;
+                ek.udot[1] += p * by;
             }
         }
         let (slope, udot) = (ek.slope, ek.udot);
