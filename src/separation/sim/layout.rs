@@ -7,6 +7,7 @@
 use super::super::body::{BODY_STATES, V3, v3_at};
 use super::Sim;
 use crate::error::SeparationError;
+use std::ops::Range;
 
 /// Velocity of body `b` in the state `y`, world axes.
 #[inline]
@@ -21,6 +22,24 @@ pub(super) fn body_rate(y: &[f64], b: usize) -> V3 {
 }
 
 impl Sim<'_> {
+    /// The entries that can change, as ascending ranges for the integrator's loops
+    /// (`Dopri5::set_active`): the free bodies, the bar modes and the dissipation integrals.
+    /// A body that does not move has a zero derivative (`rigid_body_rhs`).
+    pub(super) fn active_ranges(&self) -> Vec<Range<usize>> {
+        let mut ranges: Vec<Range<usize>> = Vec::new();
+        let bodies = (0..=self.n).filter(|&b| self.free[b]);
+        for r in bodies
+            .map(|b| BODY_STATES * b..BODY_STATES * (b + 1))
+            .chain(std::iter::once(self.bar_off..self.dim))
+        {
+            match ranges.last_mut() {
+                Some(last) if last.end == r.start => last.end = r.end,
+                _ => ranges.push(r),
+            }
+        }
+        ranges
+    }
+
     /// Every body at its latched position with the identity attitude; satellites given an
     /// initial velocity or rate (tests) start with it; bars straight and at rest.
     pub(super) fn initial_state(&self) -> Vec<f64> {
@@ -141,6 +160,18 @@ mod tests {
         assert!(seen[..sim.bar_off].iter().all(|&c| c == 0));
         assert!(seen[sim.bar_off..sim.en_off].iter().all(|&c| c == 1));
         assert_eq!(sim.dim - sim.en_off, 3);
+    }
+
+    /// Satellite 1 free, the carrier and satellite 2 latched: satellite 1's entries and the
+    /// bar block with the integrals; satellite 2 freed too joins them into one range.
+    #[test]
+    fn active_ranges_are_the_free_bodies_and_the_bars() {
+        let m = fixture::two_satellites_on_flexible_bars(2);
+        let mut sim = Sim::new(&m);
+        sim.free[1] = true;
+        assert_eq!(sim.active_ranges(), vec![13..26, sim.bar_off..sim.dim]);
+        sim.free[2] = true;
+        assert_eq!(sim.active_ranges(), vec![13..sim.dim]);
     }
 
     #[test]
