@@ -15,6 +15,8 @@
 //! Inputs: a right-hand side closure `f(t, y, dy)`, relative tolerance and an absolute
 //! tolerance per component (the caller knows the physical scales), and a largest step.
 
+use std::ops::Range;
+
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
 const C4: f64 = 4.0 / 5.0;
@@ -90,6 +92,9 @@ pub struct Dopri5 {
     ytmp: Vec<f64>,
     /// Squared weighted errors of the last attempt, per component.
     err_sq: Vec<f64>,
+    /// The components the stage, error and dense-output loops run over, ascending (all by
+    /// default; see [`Dopri5::set_active`]).
+    active: Vec<Range<usize>>,
     pub stats: Stats,
 }
 
@@ -121,6 +126,7 @@ impl Dopri5 {
             facold: 1e-4,
             ytmp: z(),
             err_sq: z(),
+            active: std::iter::once(0..n).collect(),
             stats: Stats::default(),
         };
         s.refresh(f);
@@ -132,6 +138,31 @@ impl Dopri5 {
     pub fn refresh<F: FnMut(f64, &[f64], &mut [f64])>(&mut self, f: &mut F) {
         f(self.t, &self.y, &mut self.f0);
         self.stats.rhs_evals += 1;
+    }
+
+    /// Restricts the stage, error and dense-output loops to the components in `active`
+    /// (ascending, disjoint). The caller guarantees that every other component has a zero
+    /// derivative from now until the next call (a body that does not move): then a step
+    /// leaves it exactly as it is, its error term is zero and its dense output its value,
+    /// which is what the loops would compute, so skipping it changes no bit. Its value is
+    /// set in every buffer the steps rotate, and its dense output to that constant.
+    pub fn set_active(&mut self, active: Vec<Range<usize>>) {
+        let mut next = 0;
+        for r in active
+            .iter()
+            .chain(std::iter::once(&(self.y.len()..self.y.len())))
+        {
+            for i in next..r.start {
+                let v = self.y[i];
+                (self.y_prev[i], self.ytmp[i], self.err_sq[i]) = (v, v, 0.0);
+                self.rcont[0][i] = v;
+                for c in &mut self.rcont[1..] {
+                    c[i] = 0.0;
+                }
+            }
+            next = r.end;
+        }
+        self.active = active;
     }
 
     /// Previous accepted time (start of the last step).
@@ -184,120 +215,126 @@ impl Dopri5 {
     }
 
     /// Computes the stages of a step of size `h` from (t, y) into `k` and the 5th-order result
-    /// into `ytmp`; returns the weighted error estimate.
+    /// into `ytmp`; returns the weighted error estimate. The loops run over the active
+    /// components only (see [`Self::set_active`]).
     fn attempt<F: FnMut(f64, &[f64], &mut [f64])>(&mut self, f: &mut F, h: f64) -> f64 {
         let n = self.y.len();
         let t = self.t;
         self.k[0].copy_from_slice(&self.f0);
         let y = &self.y[..n];
         let mut yt = std::mem::take(&mut self.ytmp);
+        let active = &self.active;
         let [k0, k1, k2, k3, k4, k5, k6] = &mut self.k;
-        // Every slice cut to n so that the loops compile without bounds checks (and
+        // Every slice cut to the range so that the loops compile without bounds checks (and
         // vectorise); each element is the same expression as in dopri5.f.
-        {
-            let (yt, k0) = (&mut yt[..n], &k0[..n]);
-            for i in 0..n {
+        for r in active {
+            let (yt, y, k0) = (&mut yt[r.clone()], &y[r.clone()], &k0[r.clone()]);
+            for i in 0..yt.len() {
                 yt[i] = y[i] + h * A21 * k0[i];
             }
         }
         f(t + C2 * h, &yt, k1);
-        {
-            let (yt, k0, k1) = (&mut yt[..n], &k0[..n], &k1[..n]);
-            for i in 0..n {
+        for r in active {
+            let (yt, y, k0, k1) = (
+                &mut yt[r.clone()],
+                &y[r.clone()],
+                &k0[r.clone()],
+                &k1[r.clone()],
+            );
+            for i in 0..yt.len() {
                 yt[i] = y[i] + h * (A31 * k0[i] + A32 * k1[i]);
             }
         }
         f(t + C3 * h, &yt, k2);
-        {
-            let (yt, k0, k1, k2) = (&mut yt[..n], &k0[..n], &k1[..n], &k2[..n]);
-            for i in 0..n {
+        for r in active {
+            let (yt, y) = (&mut yt[r.clone()], &y[r.clone()]);
+            let (k0, k1, k2) = (&k0[r.clone()], &k1[r.clone()], &k2[r.clone()]);
+            for i in 0..yt.len() {
                 yt[i] = y[i] + h * (A41 * k0[i] + A42 * k1[i] + A43 * k2[i]);
             }
         }
         f(t + C4 * h, &yt, k3);
-        {
-            let (yt, k0, k1, k2, k3) = (&mut yt[..n], &k0[..n], &k1[..n], &k2[..n], &k3[..n]);
-            for i in 0..n {
+        for r in active {
+            let (yt, y) = (&mut yt[r.clone()], &y[r.clone()]);
+            let (k0, k1, k2, k3) = (
+                &k0[r.clone()],
+                &k1[r.clone()],
+                &k2[r.clone()],
+                &k3[r.clone()],
+            );
+            for i in 0..yt.len() {
                 yt[i] = y[i] + h * (A51 * k0[i] + A52 * k1[i] + A53 * k2[i] + A54 * k3[i]);
             }
         }
         f(t + C5 * h, &yt, k4);
-        {
-            let (yt, k0, k1, k2, k3, k4) = (
-                &mut yt[..n],
-                &k0[..n],
-                &k1[..n],
-                &k2[..n],
-                &k3[..n],
-                &k4[..n],
-            );
-            for i in 0..n {
+        for r in active {
+            let (yt, y) = (&mut yt[r.clone()], &y[r.clone()]);
+            let (k0, k1, k2) = (&k0[r.clone()], &k1[r.clone()], &k2[r.clone()]);
+            let (k3, k4) = (&k3[r.clone()], &k4[r.clone()]);
+            for i in 0..yt.len() {
                 yt[i] = y[i]
                     + h * (A61 * k0[i] + A62 * k1[i] + A63 * k2[i] + A64 * k3[i] + A65 * k4[i]);
             }
         }
         f(t + h, &yt, k5);
-        {
-            let (yt, k0, k2, k3, k4, k5) = (
-                &mut yt[..n],
-                &k0[..n],
-                &k2[..n],
-                &k3[..n],
-                &k4[..n],
-                &k5[..n],
-            );
-            for i in 0..n {
+        for r in active {
+            let (yt, y) = (&mut yt[r.clone()], &y[r.clone()]);
+            let (k0, k2, k3) = (&k0[r.clone()], &k2[r.clone()], &k3[r.clone()]);
+            let (k4, k5) = (&k4[r.clone()], &k5[r.clone()]);
+            for i in 0..yt.len() {
                 yt[i] = y[i]
                     + h * (A71 * k0[i] + A73 * k2[i] + A74 * k3[i] + A75 * k4[i] + A76 * k5[i]);
             }
         }
         f(t + h, &yt, k6);
         self.stats.rhs_evals += 6;
-        let (yt_n, atol) = (&yt[..n], &self.atol[..n]);
-        let (k0, k2, k3, k4, k5, k6) = (&k0[..n], &k2[..n], &k3[..n], &k4[..n], &k5[..n], &k6[..n]);
         // The squares first (a loop without a carried dependency, so the divisions
-        // vectorise), then their sum in the same order as before.
-        let sq = &mut self.err_sq[..n];
-        for i in 0..n {
-            let e =
-                h * (E1 * k0[i] + E3 * k2[i] + E4 * k3[i] + E5 * k4[i] + E6 * k5[i] + E7 * k6[i]);
-            let sc = atol[i] + self.rtol * y[i].abs().max(yt_n[i].abs());
-            let r = e / sc;
-            sq[i] = r * r;
-        }
+        // vectorise), then their sum in the same order as before: the inactive components'
+        // squares are zero, and adding +0 to a sum of squares changes no bit.
         let mut s = 0.0;
-        for v in sq.iter() {
-            s += v;
+        for r in active {
+            let (yt, y, atol) = (&yt[r.clone()], &y[r.clone()], &self.atol[r.clone()]);
+            let (k0, k2, k3) = (&k0[r.clone()], &k2[r.clone()], &k3[r.clone()]);
+            let (k4, k5, k6) = (&k4[r.clone()], &k5[r.clone()], &k6[r.clone()]);
+            let sq = &mut self.err_sq[r.clone()];
+            for i in 0..sq.len() {
+                let e = h
+                    * (E1 * k0[i] + E3 * k2[i] + E4 * k3[i] + E5 * k4[i] + E6 * k5[i] + E7 * k6[i]);
+                let sc = atol[i] + self.rtol * y[i].abs().max(yt[i].abs());
+                let r = e / sc;
+                sq[i] = r * r;
+            }
+            for v in sq.iter() {
+                s += v;
+            }
         }
         self.ytmp = yt;
         (s / n as f64).sqrt()
     }
 
-    /// Moves to the end of an attempted step of size h and builds the dense output.
+    /// Moves to the end of an attempted step of size h and builds the dense output (of the
+    /// active components: the others keep their constant one).
     fn commit(&mut self, h: f64) {
-        let n = self.y.len();
-        let (y, yt) = (&self.y[..n], &self.ytmp[..n]);
-        let [k0, _, k2, k3, k4, k5, k6] = &self.k;
-        let (k0, k2, k3, k4, k5, k6) = (&k0[..n], &k2[..n], &k3[..n], &k4[..n], &k5[..n], &k6[..n]);
-        let [r0, r1, r2, r3, r4] = &mut self.rcont;
-        let (r0, r1, r2, r3, r4) = (
-            &mut r0[..n],
-            &mut r1[..n],
-            &mut r2[..n],
-            &mut r3[..n],
-            &mut r4[..n],
-        );
-        for i in 0..n {
-            let y0 = y[i];
-            let y1 = yt[i];
-            let dy = y1 - y0;
-            let bspl = h * k0[i] - dy;
-            r0[i] = y0;
-            r1[i] = dy;
-            r2[i] = bspl;
-            r3[i] = dy - h * k6[i] - bspl;
-            r4[i] =
-                h * (D1 * k0[i] + D3 * k2[i] + D4 * k3[i] + D5 * k4[i] + D6 * k5[i] + D7 * k6[i]);
+        for r in &self.active {
+            let (y, yt) = (&self.y[r.clone()], &self.ytmp[r.clone()]);
+            let [k0, _, k2, k3, k4, k5, k6] = &self.k;
+            let (k0, k2, k3) = (&k0[r.clone()], &k2[r.clone()], &k3[r.clone()]);
+            let (k4, k5, k6) = (&k4[r.clone()], &k5[r.clone()], &k6[r.clone()]);
+            let [r0, r1, r2, r3, r4] = &mut self.rcont;
+            let (r0, r1, r2) = (&mut r0[r.clone()], &mut r1[r.clone()], &mut r2[r.clone()]);
+            let (r3, r4) = (&mut r3[r.clone()], &mut r4[r.clone()]);
+            for i in 0..y.len() {
+                let y0 = y[i];
+                let y1 = yt[i];
+                let dy = y1 - y0;
+                let bspl = h * k0[i] - dy;
+                r0[i] = y0;
+                r1[i] = dy;
+                r2[i] = bspl;
+                r3[i] = dy - h * k6[i] - bspl;
+                r4[i] = h
+                    * (D1 * k0[i] + D3 * k2[i] + D4 * k3[i] + D5 * k4[i] + D6 * k5[i] + D7 * k6[i]);
+            }
         }
         // Buffer swaps, not copies: `ytmp` and stage 6 are scratch until the next attempt.
         std::mem::swap(&mut self.y_prev, &mut self.y);
@@ -453,5 +490,32 @@ mod tests {
         let t_mid = 0.5 * (s.t_prev() + 2.0);
         s.retake(&mut f, t_mid);
         assert!((s.y[0] - (-t_mid).exp()).abs() < 1e-9);
+    }
+
+    /// A component with a zero derivative left out of the loops (`set_active`): the others
+    /// step bit for bit as with every component active, it keeps its value, and its dense
+    /// output is that value.
+    #[test]
+    fn an_inactive_component_changes_no_bit_of_the_others() {
+        let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = y[2];
+            dy[1] = 0.0;
+            dy[2] = -y[0];
+        };
+        let y0 = vec![1.0, 0.7, 0.0];
+        let mut all = Dopri5::new(&mut f, 0.0, y0.clone(), 1e-8, vec![1e-10; 3], 0.1);
+        let mut part = Dopri5::new(&mut f, 0.0, y0, 1e-8, vec![1e-10; 3], 0.1);
+        part.set_active(vec![0..1, 2..3]);
+        while all.t < 3.0 {
+            all.step(&mut f, 3.0).unwrap();
+            part.step(&mut f, 3.0).unwrap();
+            assert_eq!((all.t, &all.y), (part.t, &part.y));
+            let (mut a, mut b) = ([0.0; 3], [0.0; 3]);
+            let tm = 0.3 * all.t_prev() + 0.7 * all.t;
+            all.dense(tm, &mut a);
+            part.dense(tm, &mut b);
+            assert_eq!(a, b);
+        }
+        assert_eq!(part.y[1], 0.7);
     }
 }

@@ -45,18 +45,26 @@ pub fn run(
         record_history: req.record_history,
         record_acceleration: shock_spec.is_some(),
     };
-    let mut result = separation::run(&model, &opts)?;
+    // The nominal run and the Monte Carlo are independent: run side by side, the nominal
+    // run takes one worker while the other starts on the dispersed runs, instead of the
+    // whole pool waiting for it. Errors keep their order: nominal, shock, Monte Carlo.
+    if req.monte_carlo.is_some() {
+        progress.stage("separation Monte Carlo");
+    }
+    let (nominal, monte_carlo) = rayon::join(
+        || separation::run(&model, &opts),
+        || {
+            req.monte_carlo
+                .map(|mc| separation::monte_carlo(&model, mc.runs, mc.seed))
+                .transpose()
+        },
+    );
+    let mut result = nominal?;
     if let Some(spec) = &shock_spec {
         progress.stage("release shock");
         result.shock = Some(separation::shock::release_shock(&model, &result, spec)?);
     }
-    let monte_carlo = match req.monte_carlo {
-        Some(mc) => {
-            progress.stage("separation Monte Carlo");
-            Some(separation::monte_carlo(&model, mc.runs, mc.seed)?)
-        }
-        None => None,
-    };
+    let monte_carlo = monte_carlo?;
     Ok(SeparateRun {
         model,
         result,

@@ -48,7 +48,7 @@ impl Sim<'_> {
                 fnrm * n[1],
                 -fnrm * (n[0] * ek.slope[0] + n[1] * ek.slope[1]),
             );
-            let f_w = c0.r * f_loc;
+            let f_w = self.carrier_axes_to_world(c0, f_loc);
             loads.apply(i, f_w, ek.p);
             loads.apply(0, -f_w, ek.p);
             let mut bar_f = [-fnrm * n[0], -fnrm * n[1]];
@@ -83,11 +83,10 @@ impl Sim<'_> {
         let (c0, s) = (&frames[0], &frames[i]);
         let n = ek.n;
         let br = self.m.bore_radius_m;
-        let rc = c0.r * V3::new(br * n[0], br * n[1], 0.0);
+        let rc = self.carrier_axes_to_world(c0, V3::new(br * n[0], br * n[1], 0.0));
         let cpt = ek.p + rc;
         let vc = ek.vp + s.w.cross(&rc);
-        let vrel_w = vc - c0.v - c0.w.cross(&(cpt - c0.x));
-        let vr = c0.r.tr_mul(&vrel_w);
+        let vr = self.velocity_in_carrier(c0, vc, cpt);
         let vr = V3::new(vr[0] - ek.udot[0], vr[1] - ek.udot[1], vr[2]);
         let vn = vr[0] * n[0] + vr[1] * n[1];
         let vt = V3::new(vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2]);
@@ -97,7 +96,7 @@ impl Sim<'_> {
         if cd > 0.0 {
             let ft = c.friction * cd * fnrm;
             let ft_loc = vt * (-ft / vtm);
-            let ft_w = c0.r * ft_loc;
+            let ft_w = self.carrier_axes_to_world(c0, ft_loc);
             loads.apply(i, ft_w, cpt);
             loads.apply(0, -ft_w, cpt);
             bar_f[0] -= ft_loc[0];

@@ -140,8 +140,8 @@ impl Sim<'_> {
                 &built
             }
         };
-        let ek = self.edge_bar(y, j, r, false);
-        (ek.delta, ek.delta_dot, ek.z)
+        let (delta, e, rr) = self.edge_delta(y, j, r);
+        (delta, self.edge_rates(y, j, r, e, rr).delta_dot, r.pl[2])
     }
 
     /// (δ, δ̇) of edge `ei`.
@@ -182,11 +182,7 @@ impl Sim<'_> {
     #[inline]
     fn edge_velocity(&self, c0: &Frame, s: &Frame, rb: V3, r: &mut EdgeRigid) {
         r.vp = s.v + s.w.cross(&rb);
-        r.vrel = if self.carrier_at_rest {
-            r.vp
-        } else {
-            c0.r.tr_mul(&(r.vp - c0.v - c0.w.cross(&(r.p - c0.x))))
-        };
+        r.vrel = self.velocity_in_carrier(c0, r.vp, r.p);
     }
 
     /// False when the edge certainly does not touch (δ < 0), decided without the square root
@@ -228,8 +224,6 @@ impl Sim<'_> {
     /// `touching_only` and δ ≤ 0, only δ.
     #[inline]
     fn edge_bar(&self, y: &[f64], j: usize, r: &EdgeRigid, touching_only: bool) -> EdgeKin {
-        let (pl, vrel) = (r.pl, r.vrel);
-        let nv = self.nm;
         let (delta, e, rr) = self.edge_delta(y, j, r);
         let mut ek = EdgeKin {
             delta,
@@ -237,7 +231,7 @@ impl Sim<'_> {
             n: [0.0; 2],
             e,
             edot: [0.0; 2],
-            z: pl[2],
+            z: r.pl[2],
             p: r.p,
             vp: r.vp,
             slope: [0.0; 2],
@@ -247,29 +241,63 @@ impl Sim<'_> {
         if touching_only && delta <= 0.0 {
             return ek;
         }
+        let rates = self.edge_rates(y, j, r, e, rr);
+        ek.n = rates.n;
+        ek.edot = rates.edot;
+        ek.slope = rates.slope;
+        ek.udot = rates.udot;
+        ek.delta_dot = rates.delta_dot;
+        ek
+    }
+
+    /// The rates of an edge with offset `e` (length `rr`) from the deflected bar `j`: the
+    /// bar's slope and deflection rate at the edge height, the contact normal, ė and δ̇.
+    /// Small and by value, so that the events (every edge at every step) copy no `EdgeKin`.
+    #[inline(always)]
+    fn edge_rates(&self, y: &[f64], j: usize, r: &EdgeRigid, e: [f64; 2], rr: f64) -> EdgeRates {
+        let nv = self.nm;
+        let (mut slope, mut udot) = ([0.0; 2], [0.0; 2]);
         if self.m.bars.is_some() {
-            for mo in 0..nv {
-                for d in 0..2 {
-                    let qi = self.qidx(j, d, mo);
-                    ek.slope[d] += r.dphi[mo] * y[qi];
-                    ek.udot[d] += r.phi[mo] * y[qi + 8 * nv];
-                }
+            // Bar j's modal coordinates (x modes, then y) and their rates; zipped so that no
+            // index is checked (this runs for every edge at every step), each sum in mode order.
+            let q0 = self.qidx(j, 0, 0);
+            let (qx, qy) = y[q0..q0 + 2 * nv].split_at(nv);
+            let (vx, vy) = y[q0 + 8 * nv..q0 + 10 * nv].split_at(nv);
+            let modes = r.phi.iter().zip(&r.dphi).zip(qx.iter().zip(qy));
+            for (((p, dp), (ax, ay)), (bx, by)) in modes.zip(vx.iter().zip(vy)) {
+                slope[0] += dp * ax;
+                udot[0] += p * bx;
+                slope[1] += dp * ay;
+                udot[1] += p * by;
             }
         }
-        let (slope, udot) = (ek.slope, ek.udot);
         let n = if rr > 1e-300 {
             [e[0] / rr, e[1] / rr]
         } else {
             [0.0, 0.0]
         };
-        ek.n = n;
-        ek.edot = [
+        let vrel = r.vrel;
+        let edot = [
             udot[0] + slope[0] * vrel[2] - vrel[0],
             udot[1] + slope[1] * vrel[2] - vrel[1],
         ];
-        ek.delta_dot = n[0] * ek.edot[0] + n[1] * ek.edot[1];
-        ek
+        EdgeRates {
+            n,
+            edot,
+            slope,
+            udot,
+            delta_dot: n[0] * edot[0] + n[1] * edot[1],
+        }
     }
+}
+
+/// The rate part of an edge's kinematics (see [`Sim::edge_rates`]).
+struct EdgeRates {
+    n: [f64; 2],
+    edot: [f64; 2],
+    slope: [f64; 2],
+    udot: [f64; 2],
+    delta_dot: f64,
 }
 
 #[cfg(test)]

@@ -92,6 +92,7 @@ impl Sim<'_> {
     }
 
     /// Whether event `idx` is live and crossed between `a` (before) and `b` (after).
+    #[inline(always)]
     pub(super) fn crossed(&self, idx: usize, a: f64, b: f64) -> bool {
         let n8 = 8 * self.n;
         if idx < n8 {

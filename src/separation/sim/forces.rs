@@ -21,12 +21,18 @@ pub(super) struct Loads<'f> {
     pub(super) frames: &'f [Frame],
     force: &'f mut Vec<V3>,
     torque: &'f mut Vec<V3>,
+    /// Which bodies move: only their loads are read (`rigid_body_rhs`).
+    free: &'f [bool],
 }
 
 impl Loads<'_> {
-    /// Adds force `f` (world) applied at the world point `at` of body `b`.
+    /// Adds force `f` (world) applied at the world point `at` of body `b`; nothing for a body
+    /// that does not move (the fixed carrier takes the reaction of every contact).
     #[inline]
     pub(super) fn apply(&mut self, b: usize, f: V3, at: V3) {
+        if !self.free[b] {
+            return;
+        }
         self.force[b] += f;
         self.torque[b] += (at - self.frames[b].x).cross(&f);
     }
@@ -52,6 +58,7 @@ impl Sim<'_> {
             frames,
             force,
             torque,
+            free: &self.free,
         };
         self.spring_loads(&mut loads);
         q_gen.clear();

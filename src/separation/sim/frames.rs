@@ -56,6 +56,24 @@ impl Sim<'_> {
             c0.r.tr_mul(&(p - c0.x))
         }
     }
+
+    /// A vector in carrier axes turned into world axes; the identity for a carrier at rest
+    /// (as in [`Self::to_carrier`]): the contact forces of every touching edge go through it.
+    #[inline(always)]
+    pub(super) fn carrier_axes_to_world(&self, c0: &Frame, v: V3) -> V3 {
+        if self.carrier_at_rest { v } else { c0.r * v }
+    }
+
+    /// The velocity `v` (world) of the world point `p` relative to the carrier, in carrier
+    /// axes; `v` itself for a carrier at rest (as in [`Self::to_carrier`]).
+    #[inline(always)]
+    pub(super) fn velocity_in_carrier(&self, c0: &Frame, v: V3, p: V3) -> V3 {
+        if self.carrier_at_rest {
+            v
+        } else {
+            c0.r.tr_mul(&(v - c0.v - c0.w.cross(&(p - c0.x))))
+        }
+    }
 }
 
 #[cfg(test)]

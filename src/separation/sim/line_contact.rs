@@ -175,7 +175,7 @@ impl Sim<'_> {
                     fe * n[1],
                     -fe * (n[0] * ek.slope[0] + n[1] * ek.slope[1]),
                 );
-                let f_w = c0.r * f_loc;
+                let f_w = self.carrier_axes_to_world(&c0, f_loc);
                 loads.apply(i, f_w, ek.p);
                 loads.apply(0, -f_w, ek.p);
                 self.bar_load(q_gen, j, ek, [-fe * n[0], -fe * n[1]]);

@@ -89,7 +89,9 @@ impl Sim<'_> {
         let ig = {
             let this = &*self;
             let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| this.rhs(y, dy);
-            Dopri5::new(&mut f, 0.0, y0, m.tolerance, atol, m.max_step_s)
+            let mut ig = Dopri5::new(&mut f, 0.0, y0, m.tolerance, atol, m.max_step_s);
+            ig.set_active(this.active_ranges());
+            ig
         };
         let ne = self.n_events();
         let mut g0 = vec![0.0; ne];
@@ -184,6 +186,7 @@ impl Sim<'_> {
         if st.release_pending() && t >= st.releases[st.next_release] {
             self.apply_releases(t);
             self.rebuild_static(&st.ig.y);
+            st.ig.set_active(self.active_ranges());
             st.next_release += 1;
             changed = true;
         }
