@@ -471,10 +471,11 @@ fn auto_solves_only_what_the_scene_asks() {
     let twelve = solve(&tower, SolverChoice::Auto, None, Some(12));
     assert!(twelve.dofs > 1400, "{} DOFs", twelve.dofs);
     assert!(twelve.solver.starts_with("sparse"), "{}", twelve.solver);
-    // 300 of the stack's 692 modes at 2 kHz: near break-even, the model keeps it dense; a
-    // verification scene (120 DOFs) is dense whatever it asks.
+    // 300 of the stack's 692 modes at 2 kHz: the dense path's work on the 300 modes it keeps
+    // makes it the dearer (model 0.16 s against 0.073 s), so it goes sparse; a verification
+    // scene (120 DOFs) is dense whatever it asks.
     let band = solve(&stack, SolverChoice::Auto, Some(2000.0), None);
-    assert!(band.solver.starts_with("dense"), "{}", band.solver);
+    assert!(band.solver.starts_with("sparse"), "{}", band.solver);
     let cantilever = load("test-specs/verification/cantilever.toml");
     let small = solve(&cantilever, SolverChoice::Auto, None, Some(3));
     assert!(small.solver.starts_with("dense"), "{}", small.solver);

@@ -358,10 +358,12 @@ fn markdown(r: &Report) -> String {
          O(n³)); the sparse one's grows with the modes asked for. On generated frame towers (beams, \
          offset masses, springs) with the lowest tenth of the modes (at most 100), see the table below; \
          on the stack, where about 45% of all modes lie below 2 kHz: {stack_pairs}. `Auto` models \
-         the dense cost as {:.1e} s × DOFs³ and the sparse one as {:.1e} s × DOFs × max(modes, {}) \
+         the dense cost as {:.1e} s × DOFs³ + {:.1e} s × DOFs × modes² (the kept modes' \
+         orthonormalisation and checks) and the sparse one as {:.1e} s × DOFs × max(modes, {}) \
          (constants fitted to this table, see `modal::auto_prefers_sparse`) and takes the cheaper; \
          up to {} DOFs it stays dense. The last column is its choice.\n",
         r.auto_cost_model[0],
+        crate::modal::DENSE_S_PER_DOF_MODE2,
         r.auto_cost_model[1],
         crate::modal::SPARSE_MIN_MODES,
         crate::modal::AUTO_DENSE_DOFS

@@ -25,6 +25,12 @@ use serde::Serialize;
 /// 1476- and 2214-DOF towers, 3.2e-10 on the 492-DOF one where the fixed costs show; the
 /// stacks' 2.7–3.5e-10 include their dense buckling solve).
 pub const DENSE_S_PER_DOF3: f64 = 2.0e-10;
+/// The dense path's work on the modes it keeps (M-orthonormalisation by Gram–Schmidt and the
+/// residual checks, ∝ n·k²) adds [`DENSE_S_PER_DOF_MODE2`]·n·k: negligible for the towers'
+/// 100 modes, but on the 6-satellite stack at 2 kHz (692 DOFs, 300 kept) it is most of the
+/// dense time (0.116 and 0.222 s measured in two bench runs against 0.066 s for the n³ term:
+/// 0.8e-9 and 2.5e-9 s per DOF·mode²).
+pub const DENSE_S_PER_DOF_MODE2: f64 = 1.5e-9;
 /// The sparse solver's cost grows with the modes it must find: t ≈ [`SPARSE_S_PER_DOF_MODE`]
 /// ·n·max(k, [`SPARSE_MIN_MODES`]) (towers: 2.6–2.8e-7 s per DOF and mode at 100 modes, 5.4e-7
 /// at 49; the 1440-DOF tower asking for 12 modes took 0.02–0.03 s, as for about 50 modes: a
@@ -42,11 +48,13 @@ pub const AUTO_UNSTABLE_DENSE_DOFS: usize = 1500;
 
 /// Whether `Auto` takes the sparse path for `k` modes of an n-DOF model: when its modelled
 /// cost is below the dense one's. On the 6-satellite stack at 2 kHz (692 DOFs, 300 modes) the
-/// two are within the model's spread (measured 0.08 s sparse, 0.12 s dense); the model keeps it
-/// dense (0.073 s against 0.066 s modelled).
+/// sparse path is modelled at 0.073 s against 0.16 s dense (measured 0.08–0.12 s sparse,
+/// 0.12–0.22 s dense).
 pub fn auto_prefers_sparse(n: usize, k: usize) -> bool {
-    let (nf, kf) = (n as f64, k.max(SPARSE_MIN_MODES) as f64);
-    n > AUTO_DENSE_DOFS && SPARSE_S_PER_DOF_MODE * nf * kf < DENSE_S_PER_DOF3 * nf.powi(3)
+    let (nf, kf) = (n as f64, k as f64);
+    let sparse = SPARSE_S_PER_DOF_MODE * nf * kf.max(SPARSE_MIN_MODES as f64);
+    let dense = DENSE_S_PER_DOF3 * nf.powi(3) + DENSE_S_PER_DOF_MODE2 * nf * kf * kf;
+    n > AUTO_DENSE_DOFS && sparse < dense
 }
 
 /// What to extract.
