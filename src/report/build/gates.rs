@@ -119,9 +119,12 @@ pub fn section(q: &Qualification) -> Section {
     for f in summary::families(&q.gates) {
         let members: Vec<&Verdict> = q.gates.iter().filter(|g| g.group == f.group).collect();
         blocks.push(Block::Paragraph(
-            Text::plain("")
-                .strong(family_label(f.group))
-                .and(format!(": {} gates, {} failed", f.total, f.failed)),
+            Text::plain("").strong(family_label(f.group)).and(format!(
+                ": {} gate{}, {} failed",
+                f.total,
+                if f.total == 1 { "" } else { "s" },
+                f.failed
+            )),
         ));
         let mut t = Table::new(columns());
         let mut runs = fold_by_kind_and_case(&members);
