@@ -167,27 +167,16 @@ fn with_noisy_test_frequencies_the_true_values_lie_in_the_95_percent_intervals()
 #[test]
 fn a_parameter_no_paired_mode_feels_is_not_identifiable() {
     let test = true_frequencies();
-    let torsion =
-        "\n[[update.parameter]]\npath = \"spring.0.stiffness.3\"\nlower = 1e5\nupper = 1e9\n";
+    let torsion = crate::common::UNFELT_TORSION;
     let text = round_trip_scene(TRUE, &test, &(update_section("") + torsion));
-    let e = update::run(&parse(&text))
-        .expect_err("must refuse")
-        .to_string();
-    let parts = ["cannot identify", "spring.0.stiffness.3 (+1.000)"];
-    crate::common::assert_error_at(&e, &text, "spring.0.stiffness.3", &parts);
+    crate::common::assert_refused_as_unidentifiable(&text, "spring.0.stiffness.3");
     let regularized = round_trip_scene(
         TRUE,
         &test,
         &(update_section("regularization = 1e-6\n") + torsion),
     );
     let u = update::run(&parse(&regularized)).unwrap();
-    let flags: Vec<bool> = u.parameters.iter().map(|p| p.identifiable).collect();
-    assert_eq!(flags, vec![true, true, true, false]);
-    assert!(
-        u.warnings
-            .iter()
-            .any(|w| w.contains("`spring.0.stiffness.3` is not identifiable"))
-    );
+    crate::common::assert_only_the_last_unidentifiable(&u);
     // Regularization pulls toward the start, which is the truth here: it stays there.
     assert!(
         rel(u.parameters[3].value, 1e7) < 1e-9,

@@ -89,6 +89,36 @@ pub fn assert_error_at(error: &str, text: &str, needle: &str, parts: &[&str]) {
     }
 }
 
+/// The `[[update.parameter]]` of the round-trip cantilever that no z-bending mode feels: the
+/// root spring's torsion stiffness (rx).
+pub const UNFELT_TORSION: &str =
+    "\n[[update.parameter]]\npath = \"spring.0.stiffness.3\"\nlower = 1e5\nupper = 1e9\n";
+
+/// Asserts that `update` refuses the generated scene `text` at the line of `path`, as a
+/// parameter the targets cannot identify, naming it with its correlation (+1.000).
+pub fn assert_refused_as_unidentifiable(text: &str, path: &str) {
+    let e = satqual::pipeline::workflows::update::run(&parse(text))
+        .expect_err("must refuse")
+        .to_string();
+    let named = format!("{path} (+1.000)");
+    assert_error_at(&e, text, path, &["cannot identify", &named]);
+}
+
+/// Asserts that only the last parameter of `u` is flagged not identifiable, with its warning.
+pub fn assert_only_the_last_unidentifiable(u: &satqual::pipeline::workflows::update::Update) {
+    let flags: Vec<bool> = u.parameters.iter().map(|p| p.identifiable).collect();
+    let mut expected = vec![true; flags.len()];
+    *expected.last_mut().expect("parameters") = false;
+    assert_eq!(flags, expected);
+    let path = &u.parameters.last().expect("parameters").path;
+    let warning = format!("`{path}` is not identifiable");
+    assert!(
+        u.warnings.iter().any(|w| w.contains(&warning)),
+        "{:?}",
+        u.warnings
+    );
+}
+
 /// |a − b| / |b|.
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()

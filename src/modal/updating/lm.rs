@@ -164,19 +164,22 @@ mod tests {
         })
     }
 
-    /// Rosenbrock as least squares, r = (10(u₁ − u₀²), 1 − u₀): minimum at (1, 1) (Rosenbrock
-    /// 1960), reached to 1e-6 from the textbook start (−1.2, 1).
-    #[test]
-    fn rosenbrock_reaches_its_minimum() {
-        let eval = rosenbrock;
-        let o = Options {
+    /// Unregularised, 200 iterations, u₀ and u₁ in [−5, `upper`].
+    fn box_options(upper: Vec<f64>) -> Options {
+        Options {
             max_iterations: 200,
             regularization: 0.0,
             prior: vec![0.0; 2],
             lower: vec![-5.0; 2],
-            upper: vec![5.0; 2],
-        };
-        let out = minimize(eval, &[-1.2, 1.0], &o).unwrap();
+            upper,
+        }
+    }
+
+    /// Rosenbrock as least squares, r = (10(u₁ − u₀²), 1 − u₀): minimum at (1, 1) (Rosenbrock
+    /// 1960), reached to 1e-6 from the textbook start (−1.2, 1).
+    #[test]
+    fn rosenbrock_reaches_its_minimum() {
+        let out = minimize(rosenbrock, &[-1.2, 1.0], &box_options(vec![5.0; 2])).unwrap();
         assert!(
             (out.u[0] - 1.0).abs() < 1e-6 && (out.u[1] - 1.0).abs() < 1e-6,
             "{:?}",
@@ -189,15 +192,7 @@ mod tests {
     /// bound, u = (0.5, 0.25), exactly.
     #[test]
     fn a_bound_holds_the_variable() {
-        let eval = rosenbrock;
-        let o = Options {
-            max_iterations: 200,
-            regularization: 0.0,
-            prior: vec![0.0; 2],
-            lower: vec![-5.0; 2],
-            upper: vec![0.5, 5.0],
-        };
-        let out = minimize(eval, &[-1.2, 1.0], &o).unwrap();
+        let out = minimize(rosenbrock, &[-1.2, 1.0], &box_options(vec![0.5, 5.0])).unwrap();
         assert!(
             (out.u[0] - 0.5).abs() < 1e-9 && (out.u[1] - 0.25).abs() < 1e-6,
             "{:?}",
