@@ -85,8 +85,7 @@ fn round_trip_row(test: &[f64], noise: f64) -> Result<Value, Error> {
 /// The laterally moving modes (x or y effective mass) of the stack of `n` satellites at the
 /// paper stack's values, read by the accelerometer on satellite 1: the synthetic test.
 fn stack_test_modes(base: &str, n: usize) -> Result<Vec<(f64, Vec<f64>)>, Error> {
-    let truth: Vec<f64> = STACK_UPDATE_PARAMS.iter().map(|p| p.1).collect();
-    let values = [truth[0], truth[1], truth[2], truth[3]];
+    let values = STACK_UPDATE_PARAMS.map(|p| p.1);
     let placeholder =
         "\n[test_modes]\n[[test_modes.mode]]\nfrequency_hz = 1.0\nshape = [1.0, 0.0, 0.0]\n";
     let text = stack_update_model(base, n, STACK_MODES, &values) + placeholder;
@@ -104,8 +103,7 @@ fn stack_row(n: usize) -> Result<Value, Error> {
     let path = Path::new(crate::catalogue::PAPER_STACK);
     let base = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let test = stack_test_modes(&base, n)?;
-    let start: Vec<f64> = STACK_UPDATE_PARAMS.iter().map(|p| p.1 * p.2).collect();
-    let values = [start[0], start[1], start[2], start[3]];
+    let values = STACK_UPDATE_PARAMS.map(|p| p.1 * p.2);
     let text = stack_update_model(&base, n, STACK_MODES, &values) + &stack_update_tables(&test);
     let scene = parse(&text)?;
     let (seconds, u) = timed(&scene, 1)?;

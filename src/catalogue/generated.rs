@@ -49,17 +49,13 @@ pub fn stack_with_satellites(base: &str, n: usize) -> String {
 /// `base` (a `[stack]` scene) with its mesh set: `column_elements` beam elements per half
 /// column and `bar_elements` per satellite pitch along each bar.
 pub fn stack_with_mesh(base: &str, column_elements: usize, bar_elements: usize) -> String {
-    let mut s = String::with_capacity(base.len());
-    for line in base.lines() {
-        if starts_with_key(line, "column_elements") {
-            let _ = writeln!(s, "column_elements = {column_elements}");
-        } else if starts_with_key(line, "bar_elements_per_satellite") {
-            let _ = writeln!(s, "bar_elements_per_satellite = {bar_elements}");
-        } else {
-            let _ = writeln!(s, "{line}");
-        }
-    }
-    s
+    let key = "bar_elements_per_satellite";
+    let s = with_first_line(
+        base,
+        "column_elements",
+        &format!("column_elements = {column_elements}"),
+    );
+    with_first_line(&s, key, &format!("{key} = {bar_elements}"))
 }
 
 /// `text` (a `[stack]` scene) with the guide bars bearing on their bores at every satellite

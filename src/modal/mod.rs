@@ -382,17 +382,9 @@ fn solve_prestress(
     use_sparse: bool,
     opts: &ModalOptions,
 ) -> Result<(PrestressSummary, Triplets), crate::Error> {
-    let u_red = static_displacement(model, red, loads, use_sparse)?;
-    let u = red.expand(&u_red);
-    let axial = element_axial_forces(model, &u);
-    let kg = red.reduce(&model.geometric_stiffness(&axial));
+    let (u, axial, kg) = static_state(model, red, loads, use_sparse)?;
     let lambda = buckling(model, red, k0, &kg, use_sparse)?;
-    if opts.stop_beyond_buckling
-        && let Some(factor) = lambda
-        && factor < 1.0
-    {
-        return Err(ModalError::BeyondBuckling { factor }.into());
-    }
+    refuse_beyond_buckling(lambda, opts)?;
     let mut members: Vec<MemberForce> = Vec::new();
     for (e, b) in model.beams.iter().enumerate() {
         if members.len() <= b.member {
@@ -434,9 +426,35 @@ pub fn buckling_factor_of(model: &FeModel) -> Result<Option<f64>, crate::Error> 
     }
     let use_sparse = red.n_red > AUTO_DENSE_DOFS;
     let k0 = red.reduce(&model.stiffness());
-    let u = red.expand(&static_displacement(model, &red, &loads, use_sparse)?);
-    let kg = red.reduce(&model.geometric_stiffness(&element_axial_forces(model, &u)));
+    let (_, _, kg) = static_state(model, &red, &loads, use_sparse)?;
     buckling(model, &red, &k0, &kg, use_sparse)
+}
+
+/// The static state under the loads: the displacement (full DOF space), the element axial
+/// forces, and the reduced geometric stiffness K_G they make.
+fn static_state(
+    model: &FeModel,
+    red: &Reduction,
+    loads: &[f64],
+    use_sparse: bool,
+) -> Result<(Vec<f64>, Vec<f64>, Triplets), crate::Error> {
+    let u = red.expand(&static_displacement(model, red, loads, use_sparse)?);
+    let axial = element_axial_forces(model, &u);
+    let kg = red.reduce(&model.geometric_stiffness(&axial));
+    Ok((u, axial, kg))
+}
+
+/// [`ModalError::BeyondBuckling`] for a buckling factor below 1 when `opts` asks to stop there.
+pub fn refuse_beyond_buckling(
+    factor: Option<f64>,
+    opts: &ModalOptions,
+) -> Result<(), crate::Error> {
+    match factor {
+        Some(f) if opts.stop_beyond_buckling && f < 1.0 => {
+            Err(ModalError::BeyondBuckling { factor: f }.into())
+        }
+        _ => Ok(()),
+    }
 }
 
 /// The reduced static displacement under the loads. The static solve cuts the preloaded

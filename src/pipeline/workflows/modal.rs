@@ -49,17 +49,9 @@ fn refine_buckling(scene: &Scene, sys: &mut ModalSystem, opts: &ModalOptions) ->
         return Ok(());
     };
     let model = FeModel::from_scene(&fine).map_err(|e| locate(scene, e))?;
-    let factor =
-        crate::modal::buckling_factor_of(&model).map_err(|e| locate_modal_error(scene, e))?;
-    if opts.stop_beyond_buckling
-        && let Some(f) = factor
-        && f < 1.0
-    {
-        return Err(locate_modal_error(
-            scene,
-            ModalError::BeyondBuckling { factor: f }.into(),
-        ));
-    }
+    let factor = crate::modal::buckling_factor_of(&model)
+        .and_then(|f| crate::modal::refuse_beyond_buckling(f, opts).map(|_| f))
+        .map_err(|e| locate_modal_error(scene, e))?;
     let stack = scene
         .file
         .stack
