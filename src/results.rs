@@ -90,6 +90,9 @@ pub struct Qualification {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub test_data: Option<TestDataSummary>,
     pub paper_comparison: Vec<PaperComparison>,
+    /// The values taken from a test model (`[calibration]`), when the scene names one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<CalibrationSummary>,
     pub assumptions: Vec<String>,
     pub provenance: Provenance,
 }
@@ -169,4 +172,37 @@ pub struct SweepTable {
     pub runs: usize,
     pub seed: u64,
     pub points: Vec<SweepPoint>,
+}
+
+/// A flight scene's values taken from a test model updated to measurements, and the flight
+/// prediction across the test fixture's plausible range.
+#[derive(Debug, Clone, Serialize)]
+pub struct CalibratedValue {
+    pub path: String,
+    /// As the flight scene has it.
+    pub flight: f64,
+    /// As the test scene has it (its updated value).
+    pub test: f64,
+}
+
+/// The flight prediction with the test model calibrated at one fixture estimate.
+#[derive(Debug, Clone, Serialize)]
+pub struct FixtureCase {
+    /// Factor on every fixture stiffness of the test scene (1 = its estimate).
+    pub fixture_factor: f64,
+    /// The calibrated values, in `parameters` order.
+    pub values: Vec<f64>,
+    /// First flight modes with ≥ 10 % effective mass along x, y, z, Hz.
+    pub first_hz: [Option<f64>; 3],
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct CalibrationSummary {
+    pub test_scene: String,
+    pub parameters: Vec<CalibratedValue>,
+    /// The fixture's source text in the test scene, when it has a fixture.
+    pub fixture_source: Option<String>,
+    /// Nominal first, then the low and high ends of the fixture's plausible range.
+    pub cases: Vec<FixtureCase>,
+    pub warnings: Vec<String>,
 }

@@ -188,13 +188,28 @@ fn read_mtx(path: &std::path::Path) -> faer::Mat<f64> {
 #[test]
 fn exported_matrices_alone_reproduce_a_base_drive_response() {
     // The files of --export-matrices (KKG.mtx, M.mtx, influence.csv) and the scene's damping
-    // (Q = 15, ζ = 1/(2Q) for every mode) reproduce the direct frequency response of
+    // (the shaker scene, clamped, set to Q = 15, ζ = 1/(2Q) for every mode) reproduce the direct frequency response of
     // `satqual::response` (src/response/frf.rs: the complex solve of (K − ω²M + iωC)·u = −p
     // with C = MΦ·diag(2ζω)·(MΦ)ᵀ) at 50 Hz along y, with a small dense solve. Tolerance 1e-9
     // relative: the files round-trip every value in 18 digits, so only the summation order of
     // the assembly differs.
     let dir = crate::common::temp_dir("export-influence");
-    let scene_path = "test-specs/shaker-2sat.toml";
+    std::fs::create_dir_all(&dir).unwrap();
+    let shaker = crate::common::load("test-specs/shaker-2sat.toml");
+    let table = shaker
+        .text
+        .lines()
+        .find(|l| l.starts_with("table = "))
+        .unwrap();
+    let with_q = shaker.text.replacen(table, "q = 15.0", 1);
+    // Clamped base: the fixture's 1e12 seat ties would let the summation order of the two
+    // assemblies, not the files, set the difference.
+    let start = with_q.find("\n[stack.fixture]\n").unwrap();
+    let end = start + with_q[start..].find("\n[modal]").unwrap();
+    let with_q = format!("{}{}", &with_q[..start], &with_q[end..]);
+    let scene_file = dir.join("shaker-q15.toml");
+    std::fs::write(&scene_file, with_q).unwrap();
+    let scene_path = scene_file.to_str().unwrap();
     let out = satqual(&[
         "modal",
         scene_path,

@@ -273,7 +273,9 @@ fn ema_write_damping_edits_the_scene_and_keeps_its_comments() {
     for line in original.lines().filter(|l| l.trim_start().starts_with('#')) {
         assert!(edited.contains(line), "lost comment {line:?}");
     }
-    assert!(edited.contains("# replaced by `satqual ema --write-damping`: q = 15.0"));
+    assert!(edited.contains(
+        "# replaced by `satqual ema --write-damping`: table = [[29.1, 0.03319], [31.2, 0.03505]"
+    ));
     let loaded = satqual::spec::Scene::parse(&scene, &edited).unwrap();
     let d = loaded.file.damping.unwrap();
     let table = d.table.unwrap();

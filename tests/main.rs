@@ -18,6 +18,7 @@ mod cli_output;
 // FE core and modal solvers.
 mod cli_modal;
 mod fem_verification;
+mod fixture;
 mod modal_band_edges;
 mod modal_sparse;
 mod modal_stability;

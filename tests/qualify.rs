@@ -131,6 +131,8 @@ fn results_json_is_byte_identical_across_thread_counts() {
     let scene = d.join("paper-stack.toml");
     std::fs::create_dir_all(&d).unwrap();
     std::fs::write(&scene, text.replace("\nruns = 59\n", "\nruns = 12\n")).unwrap();
+    // The test model its [calibration] names, beside it.
+    std::fs::copy("test-specs/shaker-2sat.toml", d.join("shaker-2sat.toml")).unwrap();
     let (a, b) = (d.join("a"), d.join("b"));
     let oa = qualify(&scene, &a, Some("1"));
     let ob = qualify(&scene, &b, Some("2"));

@@ -38,6 +38,13 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
         None => None,
     };
     let test_data = test_data(scene, &plan, progress, &mut found)?;
+    let calibration = match &scene.file.calibration {
+        Some(spec) => {
+            progress.stage("flight prediction across the test fixture's range");
+            Some(workflows::calibration::run(scene, spec)?)
+        }
+        None => None,
+    };
     if found.gates.is_empty() {
         found.gates.push(gates::frequency::nothing_evaluated());
     }
@@ -61,6 +68,7 @@ pub fn qualify(scene: &Scene, progress: &dyn Progress) -> Result<Qualification, 
         separation: separation.map(|s| s.0),
         test_data,
         paper_comparison: found.comparison,
+        calibration,
         assumptions: provenance::assumption_lines(&scene.text),
         provenance,
     })

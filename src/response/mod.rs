@@ -151,7 +151,9 @@ pub fn run_scene(prep: &Prepared) -> Result<SceneResponse, Error> {
     }
     if let Some(r) = &prep.scene.file.random {
         let (spec, env) = r
-            .applied(Some(prep.sys.result.total_mass_kg))
+            .applied(Some(
+                prep.sys.result.total_mass_kg - prep.scene.file.fixture_mass_kg(),
+            ))
             .map_err(|e| prep.scene.locator().err("random", e))?;
         for a in axes(&spec.axes) {
             out.random

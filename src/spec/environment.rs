@@ -130,7 +130,7 @@ pub fn named(name: &str) -> Option<&'static NamedEnvironment> {
 /// What the weight reduction did.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct GevsReduction {
-    /// Mass of the test item (the whole model), kg.
+    /// Mass of the test item (the whole model, less a shaker fixture), kg.
     pub mass_kg: f64,
     /// The mass the rule uses: GEVS holds the spectrum at its 182 kg level above 182 kg.
     pub mass_used_kg: f64,

@@ -8,11 +8,13 @@
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod analysis;
+pub mod calibration;
 pub mod correlation;
 pub mod damping_edit;
 #[cfg(test)]
 mod doc_keys;
 pub mod environment;
+pub mod fixture;
 pub mod limits;
 pub mod model;
 pub mod plausible;
@@ -112,6 +114,9 @@ pub struct SceneFile {
     /// Model updating (`satqual update`): the parameters adjusted and the modes fitted.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub update: Option<update::UpdateSpec>,
+    /// Values this scene took from a test scene updated to measurements.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<calibration::CalibrationSpec>,
     /// The largest work the scene may ask for; absent, the defaults of [`limits`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub limits: Option<limits::LimitsSpec>,
@@ -121,6 +126,13 @@ impl SceneFile {
     /// The scene's `[limits]`, or the defaults.
     pub fn limits(&self) -> limits::LimitsSpec {
         self.limits.clone().unwrap_or_default()
+    }
+
+    /// Mass of the model that is not the test article (a stack's shaker fixture plate), kg:
+    /// an environment reduced for the article's weight leaves it out.
+    pub fn fixture_mass_kg(&self) -> f64 {
+        let fixture = self.stack.as_ref().and_then(|s| s.fixture.as_ref());
+        fixture.map_or(0.0, |f| f.mass_kg)
     }
 }
 
@@ -172,6 +184,9 @@ impl Scene {
         analysis::validate(&file, &model, &loc)?;
         if let Some(s) = &file.sweep {
             sweep::validate(s, &loc)?;
+        }
+        if let Some(c) = &file.calibration {
+            calibration::validate(c, &loc)?;
         }
         Ok(Scene {
             path: path.to_path_buf(),

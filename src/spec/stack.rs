@@ -60,7 +60,7 @@ pub struct StackSpec {
     pub column_elements: usize,
     /// Beam elements per half column of the model the buckling factor is taken on, when
     /// finer than `column_elements`: the columns between the satellites are what buckles,
-    /// and their mesh sets the factor's error (+0.45 % at 1, +0.05 % at 2, +0.009 % at 4 on
+    /// and their mesh sets the factor's error (+0.52 % at 1, +0.06 % at 2, +0.010 % at 4 on
     /// the paper stack, docs/fem.md), while the modes converge at 1 (1e-5).
     #[serde(default = "four")]
     pub buckling_column_elements: usize,
@@ -80,6 +80,10 @@ pub struct StackSpec {
     /// linearised steel-on-aluminium line contact a few centimetres long.
     #[serde(default = "bore_stiffness")]
     pub bar_bore_stiffness_n_m: f64,
+    /// The shaker test's fixture under the stack (test scenes only); absent, the carrier
+    /// platform and the bar roots are clamped to the ground.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fixture: Option<super::fixture::FixtureSpec>,
 }
 
 /// See [`StackSpec::bar_bore`].
@@ -230,6 +234,7 @@ use crate::error::SpecError;
 /// `1000·i + 10·c + 1/2/3`; the carrier-platform point under column c `10·c`; guide bar c at
 /// level j (0 = bottom of the lowest satellite, N = top of the stack) `10000000·c + 10 + j`, its
 /// root `10000000·c` and its free tip above the compression device `10000000·c + 9999` (ids far above any satellite's, so stacks of up to 9999 satellites never collide).
+/// With a fixture: the shaker table `1`, the adapter plate `2`, the bar seats `10000000·c + 1`.
 pub mod ids {
     pub fn satellite(i: usize) -> i64 {
         1000 * i as i64
@@ -248,6 +253,18 @@ pub mod ids {
     }
     pub fn bar_tip(c: usize) -> i64 {
         10_000_000 * c as i64 + 9999
+    }
+    /// With a `[stack.fixture]`: the driven shaker table (ground) and the adapter plate on it.
+    pub fn shaker_table() -> i64 {
+        1
+    }
+    pub fn fixture_plate() -> i64 {
+        2
+    }
+    /// With a `[stack.fixture]`: the plate's point under guide bar c, where the bar root's
+    /// spherical washer seats.
+    pub fn bar_seat(c: usize) -> i64 {
+        10_000_000 * c as i64 + 1
     }
 }
 
@@ -394,6 +411,9 @@ impl StackSpec {
         if let Some(key) = &self.interface.shear_key {
             key.validate(materials, loc)?;
         }
+        if let Some(fixture) = &self.fixture {
+            fixture.validate(loc)?;
+        }
         Ok(())
     }
 
@@ -482,10 +502,12 @@ impl StackSpec {
                 id: ids::platform(c),
                 position_m: [p[0], p[1], z(0)],
             });
-            f.support.push(Support {
-                node: ids::platform(c),
-                dofs: "123456".into(),
-            });
+            if self.fixture.is_none() {
+                f.support.push(Support {
+                    node: ids::platform(c),
+                    dofs: "123456".into(),
+                });
+            }
         }
         for i in 1..=n {
             let bottom = z(n - i);
@@ -557,10 +579,14 @@ impl StackSpec {
             });
             // The spherical washer at the bar's lower end (§2.2, Fig. 3 item 15) lets it rotate:
             // translations and torsion held, bending rotations free.
-            f.support.push(Support {
-                node: ids::bar_root(c),
-                dofs: "1236".into(),
-            });
+            if self.fixture.is_some() {
+                seat_on_fixture(f, c, [p[0], p[1], 0.0]);
+            } else {
+                f.support.push(Support {
+                    node: ids::bar_root(c),
+                    dofs: "1236".into(),
+                });
+            }
             let mut prev = ids::bar_root(c);
             for level in 0..=n {
                 if level == 0 && self.base_height_m <= 0.0 {
@@ -629,5 +655,59 @@ impl StackSpec {
                 ));
             }
         }
+        if let Some(fixture) = &self.fixture {
+            expand_fixture(fixture, f);
+        }
     }
+}
+
+/// Stiffness of the tie between a bar root and its seat on the fixture plate, N/m and N·m/rad:
+/// a penalty for "held" (1000× a bar segment's EA/L of ~6e8 N/m), as the ground holds it
+/// without a fixture.
+const SEAT_TIE: f64 = 1e12;
+
+/// The bar root's seat on the fixture plate: translations and torsion tied, bending free.
+fn seat_on_fixture(f: &mut super::SceneFile, c: usize, position_m: [f64; 3]) {
+    f.node.push(Node {
+        id: ids::bar_seat(c),
+        position_m,
+    });
+    f.spring.push(Spring {
+        name: Some(format!("bar {c} seat on the fixture")),
+        nodes: [ids::bar_seat(c), ids::bar_root(c)],
+        stiffness: [SEAT_TIE, SEAT_TIE, SEAT_TIE, 0.0, 0.0, SEAT_TIE],
+    });
+}
+
+/// The shaker table (driven, held) and the adapter plate on its six springs, carrying the
+/// carrier-platform points and the bar seats.
+fn expand_fixture(fixture: &super::fixture::FixtureSpec, f: &mut super::SceneFile) {
+    for id in [ids::shaker_table(), ids::fixture_plate()] {
+        f.node.push(Node {
+            id,
+            position_m: [0.0; 3],
+        });
+    }
+    f.support.push(Support {
+        node: ids::shaker_table(),
+        dofs: "123456".into(),
+    });
+    f.mass.push(Mass {
+        node: ids::fixture_plate(),
+        mass_kg: fixture.mass_kg,
+        inertia_kg_m2: fixture.inertia_kg_m2,
+        offset_m: [0.0; 3],
+    });
+    f.spring.push(Spring {
+        name: Some("fixture".into()),
+        nodes: [ids::shaker_table(), ids::fixture_plate()],
+        stiffness: fixture.stiffness(),
+    });
+    let slaves = (1..=4)
+        .flat_map(|c| [ids::platform(c), ids::bar_seat(c)])
+        .collect();
+    f.rigid.push(Rigid {
+        master: ids::fixture_plate(),
+        slaves,
+    });
 }

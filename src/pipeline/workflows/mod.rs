@@ -2,6 +2,7 @@
 //! resolved inputs (a plan or a request whose constants are explicit) and returns data; the
 //! callers decide what to print or gate.
 
+pub mod calibration;
 pub mod correlate;
 pub mod ema;
 pub mod frf;

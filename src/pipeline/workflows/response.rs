@@ -118,7 +118,7 @@ fn random_axes(
 ) -> Result<(Vec<RandomAxis>, RandomEnvironment), Error> {
     let mut opts = RandomOptions::default();
     opts.grid.max_points = prep.scene.file.limits().grid_points;
-    let mass = prep.sys.result.total_mass_kg;
+    let mass = prep.sys.result.total_mass_kg - prep.scene.file.fixture_mass_kg();
     let (spec, env) = plan
         .spec
         .applied(Some(mass))

@@ -2,6 +2,7 @@
 //! assembled here in reading order.
 
 mod analyses;
+mod calibration;
 mod cause;
 mod environments;
 mod gates;
@@ -20,6 +21,7 @@ pub fn document(q: &Qualification, figures: Vec<Figure>) -> Document {
     let mut sections = vec![gates::section(q), analyses::section(q)];
     sections.extend(environments::section(q));
     sections.extend(modes::section(q));
+    sections.extend(calibration::section(q));
     sections.extend(response::sections(q));
     sections.extend(notes::assumptions(q));
     sections.extend(separation::section(q));
@@ -104,6 +106,7 @@ mod tests {
                 satqual: "1.0 kg".into(),
                 source: "table 1".into(),
             }],
+            calibration: None,
             assumptions: vec!["rigid platform".into()],
             provenance: Provenance {
                 scene_file: "small.toml".into(),
