@@ -652,10 +652,22 @@ fn check_pairs(
     shift_abs: f64,
     unstable: bool,
 ) -> Result<(usize, (f64, usize)), crate::Error> {
+    use rayon::prelude::*;
+    let Some(n) = shapes.first().map(|s| s.1.len()) else {
+        return Ok((0, (0.0, 0)));
+    };
+    let (kr, mr) = (
+        checks::RowTriplets::new(n, k),
+        checks::RowTriplets::new(n, m),
+    );
+    // Each pair's check is independent of the others: in parallel, in mode order.
+    let checked: Vec<checks::PairCheck> = shapes
+        .par_iter()
+        .map(|(lambda, phi)| checks::check_pair(&kr, &mr, *lambda, phi, shift_abs))
+        .collect();
     let mut rigid = 0;
     let mut worst = (0.0f64, 0);
-    for (i, (lambda, phi)) in shapes.iter_mut().enumerate() {
-        let c = checks::check_pair(k, m, *lambda, phi, shift_abs);
+    for (i, ((lambda, _), c)) in shapes.iter_mut().zip(checked).enumerate() {
         if c.backward_error > worst.0 {
             worst = (c.backward_error, i);
         }
