@@ -196,12 +196,13 @@ fn exported_matrices_alone_reproduce_a_base_drive_response() {
     let dir = crate::common::temp_dir("export-influence");
     std::fs::create_dir_all(&dir).unwrap();
     let shaker = crate::common::load("test-specs/shaker-2sat.toml");
-    let table = shaker
-        .text
-        .lines()
-        .find(|l| l.starts_with("table = "))
-        .unwrap();
-    let with_q = shaker.text.replacen(table, "q = 15.0", 1);
+    let damping = shaker.text.find("\n[damping]\n").unwrap();
+    let damping_end = damping + 1 + shaker.text[damping + 1..].find("\n\n").unwrap();
+    let with_q = format!(
+        "{}\n[damping]\nq = 15.0{}",
+        &shaker.text[..damping],
+        &shaker.text[damping_end..]
+    );
     // Clamped base: the fixture's 1e12 seat ties would let the summation order of the two
     // assemblies, not the files, set the difference.
     let start = with_q.find("\n[stack.fixture]\n").unwrap();

@@ -64,6 +64,7 @@ mod signal_sweep;
 mod signal_timing;
 mod signal_welch;
 mod update;
+mod update_damping;
 mod update_logs;
 
 // Hostile input: limits, plausibility, finite outputs, mutation fuzzing.

@@ -121,6 +121,17 @@ fn summary(scene: &Path, u: &Update) -> Vec<String> {
         let r: Vec<String> = row.iter().map(|c| format!("{c:+.3}")).collect();
         out.push(format!("  correlation {:<40} {}", p.path, r.join(" ")));
     }
+    if !u.damping.is_empty() {
+        out.push(
+            "  damping from the measured sine peaks: test mode  FE mode  channel      measured g  predicted g   ζ start  ζ identified".into(),
+        );
+    }
+    for d in &u.damping {
+        out.push(format!(
+            "  {:>47}  {:>7}  {:<10} {:>11.4} {:>12.4} {:>9.5} {:>13.5}",
+            d.test_mode, d.fe_mode, d.channel, d.measured_g, d.predicted_g, d.zeta_start, d.zeta
+        ));
+    }
     out.extend(u.warnings.iter().map(|w| format!("  warning: {w}")));
     out.extend(u.notes.iter().map(|n| format!("  note: {n}")));
     out

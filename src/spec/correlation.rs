@@ -67,6 +67,19 @@ pub struct TestModeSpec {
     /// Real shape by channel name; every test point's channel must appear.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shape_by_channel: Option<BTreeMap<String, f64>>,
+    /// The mode's measured peak response in the scene's sine test: `satqual update` identifies
+    /// the mode's damping from it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak: Option<TestPeakSpec>,
+}
+
+/// `peak = { channel, g }`: the largest absolute acceleration the channel measured, along its
+/// direction, in the sine sweep along that direction (the scene's `[sine]` input).
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TestPeakSpec {
+    pub channel: String,
+    pub g: f64,
 }
 
 /// The frequency-error limit of the paired modes, by the standard that states it.
@@ -148,6 +161,7 @@ pub fn validate(file: &SceneFile, model: &SceneFile, loc: &Locator) -> Result<()
     }
     if let Some(tm) = &file.test_modes {
         validate_test_modes(tm, &file.test_point, loc)?;
+        validate_peaks(tm, file, loc)?;
     }
     if let Some(c) = &file.correlation {
         validate_correlation(c, file, loc)?;
@@ -197,6 +211,27 @@ fn validate_test_modes(
                 return Err(loc.err(&key("frequency_hz"), msg));
             }
             _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Every peak names a test point's channel and a positive level, and the scene has the sine
+/// input it was measured under.
+fn validate_peaks(tm: &TestModesSpec, file: &SceneFile, loc: &Locator) -> Result<(), SpecError> {
+    for (i, m) in tm.mode.iter().enumerate() {
+        let Some(p) = &m.peak else { continue };
+        let key = |k: &str| format!("test_modes.mode[{i}].peak.{k}");
+        if !file.test_point.iter().any(|t| t.channel == p.channel) {
+            let msg = format!("`{}` is not the channel of a [[test_point]]", p.channel);
+            return Err(loc.err(&key("channel"), msg));
+        }
+        if !(p.g > 0.0 && p.g.is_finite()) {
+            return Err(loc.err(&key("g"), format!("must be positive, got {}", p.g)));
+        }
+        if file.sine.is_none() {
+            let msg = "a measured sine peak needs the scene's [sine] input it was measured under";
+            return Err(loc.err(&key("g"), msg));
         }
     }
     Ok(())

@@ -64,6 +64,49 @@ pub fn with_identified_damping(text: &str, points: &[IdentifiedDamping]) -> Resu
     Ok(doc.to_string())
 }
 
+/// One mode's identified ratio: its 1-based number, ζ and a one-line note of its source.
+pub struct IdentifiedModeDamping {
+    pub mode: usize,
+    pub zeta: f64,
+    pub source: String,
+}
+
+/// `text` with `[damping] modes = [{ mode, zeta }, …]` holding `entries` (each annotated)
+/// in place of any entry of theirs; other entries, the base damping and every comment stay.
+pub fn with_mode_damping(text: &str, entries: &[IdentifiedModeDamping]) -> Result<String, String> {
+    let mut doc: DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
+    let damping = doc
+        .entry("damping")
+        .or_insert(Item::Table(toml_edit::Table::new()))
+        .as_table_mut()
+        .ok_or("`damping` is not a table")?;
+    let mut modes = match damping.remove("modes") {
+        None => Array::new(),
+        Some(Item::Value(Value::Array(a))) => a,
+        Some(_) => return Err("`damping.modes` is an array of tables; write it inline (`modes = [...]`) for update to edit it".into()),
+    };
+    modes.retain(|v| {
+        let mode = v
+            .as_inline_table()
+            .and_then(|t| t.get("mode"))
+            .and_then(|m| m.as_integer());
+        !entries.iter().any(|e| Some(e.mode as i64) == mode)
+    });
+    for e in entries {
+        let mut t = toml_edit::InlineTable::new();
+        t.insert("mode", Value::from(e.mode as i64));
+        t.insert("zeta", Value::from(round(e.zeta, 6)));
+        let mut v = Value::InlineTable(t);
+        v.decor_mut()
+            .set_prefix(format!("\n    # {}\n    ", e.source));
+        modes.push_formatted(v);
+    }
+    modes.set_trailing("\n");
+    modes.set_trailing_comma(true);
+    damping.insert("modes", Item::Value(Value::Array(modes)));
+    Ok(doc.to_string())
+}
+
 /// `v` to `digits` significant decimals after the point: the table reads as written.
 fn round(v: f64, digits: i32) -> f64 {
     let s = 10f64.powi(digits);

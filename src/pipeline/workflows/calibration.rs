@@ -102,7 +102,7 @@ fn recalibrated(test: &Scene, keys: &[String], factor: f64) -> Result<Vec<f64>, 
     .into();
     let text = with_values(&test.text, &edits)
         .map_err(|e| Error::Other(format!("{}: {e}", test.path.display())))?;
-    let updated = super::update::run(&Scene::parse(&test.path, &text)?)?;
+    let updated = super::update::frequencies_only(&Scene::parse(&test.path, &text)?)?;
     keys.iter()
         .map(|k| {
             let p = updated.parameters.iter().find(|p| normalize_path(&p.path) == *k);

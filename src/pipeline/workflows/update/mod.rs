@@ -2,6 +2,7 @@
 //! by bounded Levenberg–Marquardt until the paired FE frequencies match the test ones, with
 //! the identifiability of the parameters and the updated scene text.
 
+mod damping;
 pub mod problem;
 mod result;
 
@@ -12,11 +13,22 @@ use crate::pipeline::plan::{ModalOverrides, modal_options};
 use crate::pipeline::workflows::correlate::{fe_side, pair_modes, test_modes};
 use crate::spec::Scene;
 use crate::spec::update::UpdateSpec;
+pub use damping::IdentifiedDamping;
 use problem::{Param, Problem, Target};
 pub use result::{ParameterResult, TargetResult, Update};
 
-/// Updates the scene; the result holds the updated scene text.
+/// Updates the scene, then identifies the damping of the test modes that give a measured sine
+/// peak; the result holds the updated scene text.
 pub fn run(scene: &Scene) -> Result<Update, Error> {
+    run_with(scene, true)
+}
+
+/// The frequency fit alone (the parameters), without the damping identification.
+pub fn frequencies_only(scene: &Scene) -> Result<Update, Error> {
+    run_with(scene, false)
+}
+
+fn run_with(scene: &Scene, identify_damping: bool) -> Result<Update, Error> {
     let loc = scene.locator();
     let Some(spec) = scene.file.update.clone() else {
         let msg = "update needs an [update] section with [[update.parameter]] entries";
@@ -51,7 +63,34 @@ pub fn run(scene: &Scene) -> Result<Update, Error> {
     let after = problem.solve(&values)?;
     let r = problem.residuals(&after);
     let id = analyse(&problem.jacobian(&after)?, &r, reg);
-    result::assemble(&problem, &spec, &before, &after, &id, &outcome)
+    let mut u = result::assemble(&problem, &spec, &before, &after, &id, &outcome)?;
+    if identify_damping {
+        u.damping = damping::identify(&problem.scene_at(&values)?, &u.targets)?;
+    }
+    if !u.damping.is_empty() {
+        u.updated_text = with_identified_damping(&scene.path, &u.updated_text, &u.damping)?;
+    }
+    Ok(u)
+}
+
+/// `text` with the identified ratios in `[damping] modes`, each noting its evidence.
+fn with_identified_damping(
+    path: &std::path::Path,
+    text: &str,
+    identified: &[IdentifiedDamping],
+) -> Result<String, Error> {
+    use crate::spec::damping_edit::{IdentifiedModeDamping, with_mode_damping};
+    let entries: Vec<IdentifiedModeDamping> = (identified.iter())
+        .map(|d| IdentifiedModeDamping {
+            mode: d.fe_mode,
+            zeta: d.zeta,
+            source: format!(
+                "identified by satqual update: test mode {} peak {} g at `{}` reproduced (was ζ = {:.6})",
+                d.test_mode, d.measured_g, d.channel, d.zeta_start
+            ),
+        })
+        .collect();
+    with_mode_damping(text, &entries).map_err(|e| Error::Other(format!("{}: {e}", path.display())))
 }
 
 /// The `[[update.parameter]]`s with their starting values read from the scene.

@@ -56,6 +56,9 @@ pub struct Update {
     pub regularization: Option<f64>,
     pub warnings: Vec<String>,
     pub notes: Vec<String>,
+    /// Per-mode damping identified from the test modes' measured sine peaks.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub damping: Vec<super::damping::IdentifiedDamping>,
     /// The scene with the updated values written in.
     #[serde(skip)]
     pub updated_text: String,
@@ -88,6 +91,7 @@ pub fn assemble(
         regularization: spec.regularization,
         warnings: Vec::new(),
         notes: Vec::new(),
+        damping: Vec::new(),
         updated_text: String::new(),
     };
     explain(&mut u, problem, spec, after, id);
