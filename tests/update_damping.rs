@@ -140,3 +140,48 @@ fn a_peak_on_an_unknown_channel_or_without_a_sine_input_is_a_located_error() {
     let e = Scene::parse(&base.path, &no_sine).unwrap_err().to_string();
     assert!(e.contains("peak") && e.contains("[sine]"), "{e}");
 }
+
+#[test]
+fn correlate_writes_the_measured_damping_of_the_paired_modes() {
+    // The shaker scene's test modes carry measured ratios (the single-DOF readings of the
+    // paper's peaks); each lands on its paired FE mode (1, 2, 12), exactly as written, and
+    // every comment of the scene survives. The input is never the output.
+    let dir = crate::common::temp_dir("correlate-write-damping");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("shaker-damped.toml");
+    let (code, _, err) = crate::common::run_text(
+        &[
+            "correlate",
+            "test-specs/shaker-2sat.toml",
+            "--write-damping",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let original = std::fs::read_to_string("test-specs/shaker-2sat.toml").unwrap();
+    let written = std::fs::read_to_string(&out).unwrap();
+    for line in original
+        .lines()
+        .filter(|l| l.trim_start().starts_with("# ASSUMPTION"))
+    {
+        assert!(written.contains(line), "lost {line:?}");
+    }
+    let scene = Scene::parse(&out, &written).unwrap();
+    let modes = scene.file.damping.unwrap().modes.unwrap();
+    for (mode, zeta) in [(1, 0.03319), (2, 0.03505), (12, 0.2458)] {
+        let m = modes.iter().find(|m| m.mode == mode).expect("entry");
+        assert_eq!(m.zeta, zeta, "mode {mode}");
+    }
+    let (code, _, err) = crate::common::run_text(
+        &[
+            "correlate",
+            "test-specs/shaker-2sat.toml",
+            "--write-damping",
+            "test-specs/shaker-2sat.toml",
+        ],
+        None,
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("never overwrites its input"), "{err}");
+}

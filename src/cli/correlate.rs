@@ -17,6 +17,10 @@ pub struct Args {
     /// Folder for the MAC heat map, mac.svg.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write the scene, with the measured damping ratios of the paired test modes as
+    /// `[damping] modes` entries of their FE modes, to this file (never the input).
+    #[arg(long, value_name = "OUT.toml")]
+    pub write_damping: Option<PathBuf>,
     #[arg(long)]
     pub json: bool,
 }
@@ -29,6 +33,13 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     if let Some(dir) = &args.out {
         write_heatmap(dir, &c)?;
         human.push(format!("  wrote {}/mac.svg", dir.display()));
+    }
+    if let Some(out) = &args.write_damping {
+        let n = write_damping(&scene, &c, out)?;
+        human.push(format!(
+            "  wrote {} with the damping of {n} paired mode(s)",
+            out.display()
+        ));
     }
     p.human(&human.join("\n"));
     p.json(&c)?;
@@ -70,6 +81,46 @@ fn summary(scene: &Path, c: &Correlation) -> Vec<String> {
         ));
     }
     out
+}
+
+/// The scene text with each paired test mode's measured damping ratio on its FE mode, written
+/// to `out`; returns how many modes carried one.
+fn write_damping(
+    scene: &satqual::spec::Scene,
+    c: &Correlation,
+    out: &Path,
+) -> Result<usize, Error> {
+    use satqual::spec::damping_edit::{IdentifiedModeDamping, with_mode_damping};
+    if super::same_file(&scene.path, out) {
+        return Err(Error::Other(format!(
+            "--write-damping {} is the input scene: correlate never overwrites its input; name another file",
+            out.display()
+        )));
+    }
+    let entries: Vec<IdentifiedModeDamping> = (c.pairs.iter())
+        .filter_map(|p| {
+            let zeta = c.test_modes[p.test_mode - 1].damping_ratio?;
+            Some(IdentifiedModeDamping {
+                mode: p.fe_mode,
+                zeta,
+                source: format!(
+                    "measured: test mode {} ({:.4} Hz) from {}, paired by satqual correlate (MAC {:.3})",
+                    p.test_mode, p.test_hz, c.test_source, p.mac
+                ),
+            })
+        })
+        .collect();
+    if entries.is_empty() {
+        return Err(Error::Other(format!(
+            "{}: --write-damping: no paired test mode has a damping ratio",
+            scene.path.display()
+        )));
+    }
+    let text = with_mode_damping(&scene.text, &entries)
+        .map_err(|e| Error::Other(format!("{}: --write-damping: {e}", scene.path.display())))?;
+    satqual::spec::Scene::parse(out, &text)?;
+    write_atomic(out, text.as_bytes())?;
+    Ok(entries.len())
 }
 
 fn write_heatmap(dir: &Path, c: &Correlation) -> Result<(), Error> {

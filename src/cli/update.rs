@@ -20,7 +20,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
-    if same_file(&args.scene, &args.out) {
+    if super::same_file(&args.scene, &args.out) {
         return Err(Error::Other(format!(
             "--out {} is the input scene: update never overwrites its input; name another file",
             args.out.display()
@@ -39,21 +39,6 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     } else {
         Outcome::GateFailed
     })
-}
-
-/// Whether two paths name one file (the output may not exist yet: compare its folder).
-fn same_file(a: &Path, b: &Path) -> bool {
-    let canon = |p: &Path| -> Option<PathBuf> {
-        if let Ok(c) = p.canonicalize() {
-            return Some(c);
-        }
-        let dir = p
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        Some(dir.canonicalize().ok()?.join(p.file_name()?))
-    };
-    a == b || matches!((canon(a), canon(b)), (Some(x), Some(y)) if x == y)
 }
 
 fn summary(scene: &Path, u: &Update) -> Vec<String> {
