@@ -374,3 +374,55 @@ fn running_out_of_iterations_is_a_warning_and_exit_code_1() {
     assert_eq!(code, 1, "{stdout}{stderr}");
     assert!(stdout.contains("NOT converged") && out.exists(), "{stdout}");
 }
+
+#[test]
+fn the_report_shows_parameters_frequencies_and_mac_before_and_after() {
+    // The USC beam update (frequencies 6.62 / 41.4 / 117.5 Hz, upstream impulse test): the
+    // report's frequency table carries the same before/after values as the JSON, and both MAC
+    // heat maps are written; the folder is complete (md, html, json, plots).
+    let dir = temp_dir("update-report");
+    let (out, report) = (dir.join("updated.toml"), dir.join("report"));
+    let (code, stdout, stderr) = run_text(
+        &[
+            "update",
+            USC,
+            "--out",
+            out.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+            "--json",
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{stderr}");
+    let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let md = std::fs::read_to_string(report.join("report.md")).unwrap();
+    for section in [
+        "## Parameters",
+        "## Frequencies",
+        "## Correlation of the updated model",
+        "## Identifiability",
+        "## Plots",
+    ] {
+        assert!(md.contains(section), "{section} missing");
+    }
+    for t in json["targets"].as_array().unwrap() {
+        let row = format!(
+            "| {:.4} | {:.4} | {:.4} |",
+            t["test_hz"].as_f64().unwrap(),
+            t["before_hz"].as_f64().unwrap(),
+            t["after_hz"].as_f64().unwrap()
+        );
+        assert!(md.contains(&row), "{row} not in the report");
+    }
+    for f in [
+        "report.html",
+        "results.json",
+        "plots/mac-before.svg",
+        "plots/mac-after.svg",
+    ] {
+        assert!(report.join(f).is_file(), "{f} missing");
+    }
+    let html = std::fs::read_to_string(report.join("report.html")).unwrap();
+    assert!(html.contains("<svg"), "the heat maps are inline");
+}

@@ -6,7 +6,6 @@
 use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::correlate::{self, Correlation};
-use satqual::report::mac_heatmap::{Heatmap, render};
 use satqual::report::write_atomic;
 use std::path::{Path, PathBuf};
 
@@ -124,35 +123,7 @@ fn write_damping(
 }
 
 fn write_heatmap(dir: &Path, c: &Correlation) -> Result<(), Error> {
-    let test_labels: Vec<String> = c
-        .test_modes
-        .iter()
-        .enumerate()
-        .map(|(i, m)| format!("test {} {:.2} Hz", i + 1, m.frequency_hz))
-        .collect();
-    let fe_labels: Vec<String> = c
-        .fe_modes
-        .iter()
-        .map(|m| format!("FE {}", m.mode))
-        .collect();
-    let paired: Vec<(usize, usize)> = c
-        .pairs
-        .iter()
-        .map(|p| {
-            let j = c
-                .fe_modes
-                .iter()
-                .position(|m| m.mode == p.fe_mode)
-                .unwrap_or(0);
-            (p.test_mode - 1, j)
-        })
-        .collect();
-    let svg = render(&Heatmap {
-        title: "MAC: test modes (rows) against FE modes (columns), pairs outlined",
-        test_labels: &test_labels,
-        fe_labels: &fe_labels,
-        mac: &c.mac_matrix,
-        paired: &paired,
-    })?;
+    let title = "MAC: test modes (rows) against FE modes (columns), pairs outlined";
+    let svg = satqual::report::mac_heatmap::of_correlation(c, title)?;
     write_atomic(&dir.join("mac.svg"), svg.as_bytes())
 }

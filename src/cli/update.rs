@@ -4,6 +4,7 @@
 
 use super::{Outcome, Printer};
 use satqual::Error;
+use satqual::pipeline::workflows::correlate;
 use satqual::pipeline::workflows::update::{self, Update};
 use satqual::report::write_atomic;
 use std::path::{Path, PathBuf};
@@ -15,6 +16,9 @@ pub struct Args {
     /// The updated scene to write (must not be the input).
     #[arg(long)]
     pub out: PathBuf,
+    /// Also write a report folder: parameters, frequencies and MAC before and after.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
     #[arg(long)]
     pub json: bool,
 }
@@ -33,6 +37,12 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     write_atomic(&args.out, u.updated_text.as_bytes())?;
     let mut human = summary(&args.scene, &u);
     human.push(format!("  wrote {}", args.out.display()));
+    if let Some(dir) = &args.report {
+        let before = correlate::run(&scene)?;
+        let after = correlate::run(&satqual::spec::Scene::parse(&args.out, &u.updated_text)?)?;
+        satqual::report::update::write(dir, &u, &before, &after)?;
+        human.push(format!("  wrote {}/report.html", dir.display()));
+    }
     p.human(&human.join("\n"));
     Ok(if u.converged {
         Outcome::Pass

@@ -98,3 +98,35 @@ fn draw_cell(
     .map_err(plot_err)?;
     Ok(())
 }
+
+/// The heat map of a correlation's MAC matrix under `title`, its pairs outlined.
+pub fn of_correlation(
+    c: &crate::pipeline::workflows::correlate::Correlation,
+    title: &str,
+) -> Result<String, Error> {
+    let test_labels: Vec<String> = (c.test_modes.iter().enumerate())
+        .map(|(i, m)| format!("test {} {:.2} Hz", i + 1, m.frequency_hz))
+        .collect();
+    let fe_labels: Vec<String> = c
+        .fe_modes
+        .iter()
+        .map(|m| format!("FE {}", m.mode))
+        .collect();
+    let paired: Vec<(usize, usize)> = (c.pairs.iter())
+        .map(|p| {
+            let j = c
+                .fe_modes
+                .iter()
+                .position(|m| m.mode == p.fe_mode)
+                .unwrap_or(0);
+            (p.test_mode - 1, j)
+        })
+        .collect();
+    render(&Heatmap {
+        title,
+        test_labels: &test_labels,
+        fe_labels: &fe_labels,
+        mac: &c.mac_matrix,
+        paired: &paired,
+    })
+}

@@ -12,6 +12,7 @@ pub mod render_md;
 pub mod stabilization_svg;
 pub mod svg_plot;
 pub mod sweep;
+pub mod update;
 
 /// The results of a qualification, which the report presents. Imported here only, and used
 /// through this re-export everywhere in `report`, so the results can move without the report
