@@ -197,7 +197,36 @@ fn update_from_a_noisy_random_log_recovers_the_parameters() {
     let log = random_log(&dir, 23);
     let logs = [("random", log.as_path(), "random")];
     check_identified_modes(&logs);
-    assert_recovered(&update_from(&logs, &update_section("")));
+    let u = update_from(&logs, &update_section(""));
+    assert_recovered(&u);
+    check_overlays(&parse(&scene_text(START, &logs, &update_section(""))), &u);
+}
+
+/// The report's FRF overlays: at every test point the updated model's |H| follows the measured
+/// one more closely than the starting model's (median |ln(model/measured)| over the band),
+/// and within 2 % (the noise the logs carry; measured 0.3–0.4 %).
+fn check_overlays(start: &satqual::spec::Scene, u: &update::Update) {
+    let after = parse(&u.updated_text);
+    let overlays = update::overlay::overlays(start, &after).unwrap().unwrap();
+    assert_eq!(overlays.len(), 4);
+    let median_log_error = |model: &[f64], measured: &[f64]| {
+        let mut e: Vec<f64> = (model.iter().zip(measured))
+            .map(|(m, x)| (m / x).ln().abs())
+            .collect();
+        e.sort_by(f64::total_cmp);
+        e[e.len() / 2]
+    };
+    for o in &overlays {
+        let (b, a) = (
+            median_log_error(&o.before, &o.measured),
+            median_log_error(&o.after, &o.measured),
+        );
+        eprintln!(
+            "overlay {}: median |ln H/H_measured| before {b:.4}, after {a:.4}",
+            o.channel
+        );
+        assert!(a < b && a < 0.02, "{}: before {b}, after {a}", o.channel);
+    }
 }
 
 /// The same from a sine-sweep log alone, and from the sweep and the random log together (the

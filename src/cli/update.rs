@@ -38,9 +38,10 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let mut human = summary(&args.scene, &u);
     human.push(format!("  wrote {}", args.out.display()));
     if let Some(dir) = &args.report {
-        let before = correlate::run(&scene)?;
-        let after = correlate::run(&satqual::spec::Scene::parse(&args.out, &u.updated_text)?)?;
-        satqual::report::update::write(dir, &u, &before, &after)?;
+        let updated = satqual::spec::Scene::parse(&args.out, &u.updated_text)?;
+        let (before, after) = (correlate::run(&scene)?, correlate::run(&updated)?);
+        let overlays = update::overlay::overlays(&scene, &updated)?;
+        satqual::report::update::write(dir, &u, (&before, &after), &overlays)?;
         human.push(format!("  wrote {}/report.html", dir.display()));
     }
     p.human(&human.join("\n"));

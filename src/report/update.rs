@@ -9,19 +9,23 @@ use super::{mac_heatmap, render_html, render_md};
 use crate::error::Error;
 use crate::pipeline::workflows::correlate::Correlation;
 use crate::pipeline::workflows::update::Update;
+use crate::pipeline::workflows::update::overlay::Overlay;
 use std::path::{Path, PathBuf};
 
 /// Writes the report folder (see [`super::write_folder`]).
 pub fn write(
     dir: &Path,
     u: &Update,
-    before: &Correlation,
-    after: &Correlation,
+    (before, after): (&Correlation, &Correlation),
+    overlays: &Result<Vec<Overlay>, String>,
 ) -> Result<Vec<PathBuf>, Error> {
-    let figures = vec![
+    let mut figures = vec![
         mac_figure("mac-before", "MAC before the update", before)?,
         mac_figure("mac-after", "MAC after the update", after)?,
     ];
+    for (i, o) in overlays.iter().flatten().enumerate() {
+        figures.push(frf_figure(i, o)?);
+    }
     let mut files: Vec<(String, Vec<u8>)> = figures
         .iter()
         .map(|f| (f.file(), f.svg.clone().into_bytes()))
@@ -30,7 +34,15 @@ pub fn write(
     let json =
         serde_json::to_string_pretty(u).map_err(|e| Error::Other(format!("results.json: {e}")))?;
     files.push(("results.json".into(), (json + "\n").into_bytes()));
-    let doc = document(u, after, figures);
+    let mut doc = document(u, after, figures);
+    if let Err(why) = overlays {
+        let note = Block::Paragraph(Text::plain(why.clone()));
+        doc.sections
+            .last_mut()
+            .expect("Plots")
+            .blocks
+            .insert(0, note);
+    }
     files.push(("report.md".into(), render_md::render(&doc).into_bytes()));
     files.push(("report.html".into(), render_html::render(&doc).into_bytes()));
     super::write_folder(dir, &files)
@@ -41,6 +53,47 @@ fn mac_figure(stem: &str, caption: &str, c: &Correlation) -> Result<Figure, Erro
     Ok(Figure {
         stem: stem.into(),
         caption: format!("{caption}: test modes (rows) against FE modes (columns), pairs outlined"),
+        svg,
+    })
+}
+
+/// |H| measured against the model before and after, log-log.
+fn frf_figure(i: usize, o: &Overlay) -> Result<Figure, Error> {
+    use super::plot::{Scale, Series, lines_svg};
+    let pts = |v: &[f64]| -> Vec<(f64, f64)> {
+        o.frequency_hz
+            .iter()
+            .copied()
+            .zip(v.iter().copied())
+            .collect()
+    };
+    let (m, b, a) = (pts(&o.measured), pts(&o.before), pts(&o.after));
+    let series = [
+        Series {
+            label: "measured (H1)".into(),
+            points: &m,
+        },
+        Series {
+            label: "model before".into(),
+            points: &b,
+        },
+        Series {
+            label: "model after".into(),
+            points: &a,
+        },
+    ];
+    let title = format!("FRF {}: measured against the model", o.channel);
+    let svg = lines_svg(
+        &title,
+        "frequency [Hz]",
+        "|H| [g/g]",
+        &series,
+        Scale::Log,
+        Scale::Log,
+    )?;
+    Ok(Figure {
+        stem: format!("frf-{}", i + 1),
+        caption: format!("{title}, before and after the update"),
         svg,
     })
 }

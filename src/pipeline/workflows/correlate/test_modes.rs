@@ -71,6 +71,21 @@ fn from_table(scene: &Scene, tm: &TestModesSpec) -> (Vec<TestMode>, String) {
 
 /// LSCF + LSFD on the FRFs of the named logs, averaged together.
 fn identified(scene: &Scene, c: &CorrelationSpec) -> Result<(Vec<TestMode>, String), Error> {
+    let (set, control) = measured_frfs(scene, c)?;
+    let model = identify(&set, &ema_options(c))?;
+    let modes = model.modes.iter().map(real_mode).collect();
+    let source = format!(
+        "LSCF + LSFD ({} / {}) of test log(s) {}",
+        set.channels.join(","),
+        control,
+        c.logs.join(", ")
+    );
+    Ok((modes, source))
+}
+
+/// The H1 FRFs of the `[correlation] logs`, averaged together, from their shared control to
+/// every test point's channel (in test-point order), and that control's name.
+pub fn measured_frfs(scene: &Scene, c: &CorrelationSpec) -> Result<(FrfSet, String), Error> {
     let loc = scene.locator();
     let mut plans = Vec::new();
     for name in &c.logs {
@@ -114,15 +129,7 @@ fn identified(scene: &Scene, c: &CorrelationSpec) -> Result<(Vec<TestMode>, Stri
         set.channels.push(tp.channel.clone());
         set.h.push(frf.h1());
     }
-    let model = identify(&set, &ema_options(c))?;
-    let modes = model.modes.iter().map(real_mode).collect();
-    let source = format!(
-        "LSCF + LSFD ({} / {}) of test log(s) {}",
-        set.channels.join(","),
-        first.control,
-        c.logs.join(", ")
-    );
-    Ok((modes, source))
+    Ok((set, first.control.clone()))
 }
 
 /// A channel missing from the log, located at the test point or the log's control naming it.

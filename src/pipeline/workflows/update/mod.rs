@@ -3,6 +3,7 @@
 //! the identifiability of the parameters and the updated scene text.
 
 mod damping;
+pub mod overlay;
 pub mod problem;
 mod result;
 
