@@ -122,8 +122,14 @@ fn the_flight_scene_follows_the_fixture_range_as_series_compliance_predicts() {
     }
     let [nominal, soft, stiff] = [&c.cases[0], &c.cases[1], &c.cases[2]];
     assert_eq!((soft.fixture_factor, stiff.fixture_factor), (0.25, 4.0));
-    for i in 0..c.parameters.len() {
-        assert!(soft.values[i] > nominal.values[i] && nominal.values[i] > stiff.values[i]);
+    for (i, p) in c.parameters.iter().enumerate() {
+        if p.path.starts_with("stack.interface.") {
+            assert!(soft.values[i] > nominal.values[i] && nominal.values[i] > stiff.values[i]);
+        } else {
+            // The damping ratios are identified after the frequency fit, at the nominal
+            // fixture, and held across the range.
+            assert!(soft.values[i] == nominal.values[i] && stiff.values[i] == nominal.values[i]);
+        }
     }
     for d in 0..3 {
         let f = |case: &satqual::results::FixtureCase| case.first_hz[d].expect("a first mode");

@@ -47,7 +47,7 @@ pub fn run(flight: &Scene, spec: &CalibrationSpec) -> Result<CalibrationSummary,
     let mut cases = vec![case(flight, &keys, 1.0, flight_values)?];
     if let Some([lo, hi]) = fixture.as_ref().and_then(|f| f.plausible_range) {
         for factor in [lo, hi] {
-            let values = recalibrated(&test, &keys, factor)?;
+            let values = recalibrated(&test, &keys, &test_values, factor)?;
             cases.push(case(flight, &keys, factor, values)?);
         }
     }
@@ -72,8 +72,15 @@ fn numbers(scene: &Scene, keys: &[String]) -> Result<Vec<f64>, Error> {
         .collect()
 }
 
-/// The test scene updated again with its fixture's stiffness × `factor`: the values at `keys`.
-fn recalibrated(test: &Scene, keys: &[String], factor: f64) -> Result<Vec<f64>, Error> {
+/// The test scene's frequency fit redone with its fixture's stiffness × `factor`: the values
+/// at `keys`; a key the fit does not adjust (a damping ratio identified after it) keeps its
+/// value in `nominal`.
+fn recalibrated(
+    test: &Scene,
+    keys: &[String],
+    nominal: &[f64],
+    factor: f64,
+) -> Result<Vec<f64>, Error> {
     let fixture = test.file.stack.as_ref().and_then(|s| s.fixture.as_ref());
     let Some(fixture) = fixture else {
         return Err(Error::Other(format!(
@@ -103,17 +110,12 @@ fn recalibrated(test: &Scene, keys: &[String], factor: f64) -> Result<Vec<f64>, 
     let text = with_values(&test.text, &edits)
         .map_err(|e| Error::Other(format!("{}: {e}", test.path.display())))?;
     let updated = super::update::frequencies_only(&Scene::parse(&test.path, &text)?)?;
-    keys.iter()
-        .map(|k| {
+    Ok((keys.iter().zip(nominal))
+        .map(|(k, &v)| {
             let p = updated.parameters.iter().find(|p| normalize_path(&p.path) == *k);
-            p.map(|p| p.value).ok_or_else(|| {
-                Error::Other(format!(
-                    "{}: `{k}` is not an [update] parameter of the test scene, so the fixture range cannot recalibrate it",
-                    test.path.display()
-                ))
-            })
+            p.map_or(v, |p| p.value)
         })
-        .collect()
+        .collect())
 }
 
 /// The flight scene with `values` at `keys`: its first modes.
