@@ -112,7 +112,10 @@ fn recalibrated(
     let updated = super::update::frequencies_only(&Scene::parse(&test.path, &text)?)?;
     Ok((keys.iter().zip(nominal))
         .map(|(k, &v)| {
-            let p = updated.parameters.iter().find(|p| normalize_path(&p.path) == *k);
+            let p = updated
+                .parameters
+                .iter()
+                .find(|p| normalize_path(&p.path) == *k);
             p.map_or(v, |p| p.value)
         })
         .collect())
