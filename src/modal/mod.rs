@@ -520,7 +520,11 @@ fn sparse_modes(
         stats.sturm_sigma.max(0.0).sqrt() / two_pi
     );
     // The sparse eigenvalues are Rayleigh quotients: no shift enters their rounding.
-    let (rigid, worst) = check_pairs(model, (k, m), &mut pairs, 0.0, past_buckling(&prestress))?;
+    let mut checked = pair_checks(red.n_red, (k, m), &pairs, 0.0);
+    let (n, kcs, mcs) = (red.n_red, &kc, &mc);
+    polish_unconverged(n, (k, m), (kcs, mcs), &mut pairs, &mut checked, &mut stats)
+        .map_err(|e| sparse_err(model, red, e, true))?;
+    let (rigid, worst) = check_pairs(model, checked, &mut pairs, past_buckling(&prestress))?;
     let mut result = modal_result(model, red, m_full, m, pairs, &label, prestress);
     let (max_ratio, at) = flag_solution(model, red, &mut result, rigid, &stats.pivot_ratio, worst);
     stats.max_ratio = max_ratio;
@@ -557,13 +561,8 @@ fn dense_modes(
         .map(|c| (g.lambda[c], (0..red.n_red).map(|r| g.phi[(r, c)]).collect()))
         .collect();
     m_orthonormalize(m, &mut shapes);
-    let (rigid, worst) = check_pairs(
-        model,
-        (k, m),
-        &mut shapes,
-        g.shift.abs(),
-        past_buckling(&prestress),
-    )?;
+    let checked = pair_checks(red.n_red, (k, m), &shapes, g.shift.abs());
+    let (rigid, worst) = check_pairs(model, checked, &mut shapes, past_buckling(&prestress))?;
     let mut result = modal_result(
         model,
         red,
@@ -642,29 +641,95 @@ fn dense_kept(lambda: &[f64], opts: &ModalOptions) -> usize {
     keep
 }
 
+/// Every pair's residual check, in parallel (each is independent of the others), in mode order.
+fn pair_checks(
+    n: usize,
+    (k, m): (&Triplets, &Triplets),
+    shapes: &[(f64, Vec<f64>)],
+    shift_abs: f64,
+) -> Vec<checks::PairCheck> {
+    use rayon::prelude::*;
+    let (kr, mr) = (
+        checks::RowTriplets::new(n, k),
+        checks::RowTriplets::new(n, m),
+    );
+    shapes
+        .par_iter()
+        .map(|(lambda, phi)| checks::check_pair(&kr, &mr, *lambda, phi, shift_abs))
+        .collect()
+}
+
+/// Relative spread of the eigenvalues of one cluster of repeated modes.
+const CLUSTER_SPREAD: f64 = 1e-6;
+
+/// The modes above the backward-error threshold, each with the cluster of repeated modes it
+/// belongs to, polished whole (inverse iteration and Rayleigh–Ritz, `sparse::polish`): the
+/// Lanczos runs accept vectors on a residual estimate that can miss by the conditioning of the
+/// shift far from it. A polished block is kept only when its eigenvalues stay within
+/// [`POLISH_MAX_SHIFT`] of the Sturm-proven ones and its worst check improves; `checked`
+/// follows the pairs.
+fn polish_unconverged(
+    n: usize,
+    (k, m): (&Triplets, &Triplets),
+    (kc, mc): (&sparse::SymCsc, &sparse::SymCsc),
+    pairs: &mut [(f64, Vec<f64>)],
+    checked: &mut [checks::PairCheck],
+    stats: &mut sparse::SparseStats,
+) -> Result<(), sparse::SparseError> {
+    let worst = |c: &[checks::PairCheck]| c.iter().map(|c| c.backward_error).fold(0.0, f64::max);
+    let mut pencil = None;
+    let mut i = 0;
+    while i < pairs.len() {
+        let c = &checked[i];
+        if pairs[i].0 <= 0.0 || c.zero || c.backward_error <= checks::MAX_BACKWARD_ERROR {
+            i += 1;
+            continue;
+        }
+        let near = |j: usize| (pairs[j].0 - pairs[i].0).abs() <= CLUSTER_SPREAD * pairs[i].0;
+        let start = (0..i).rev().take_while(|&j| near(j)).last().unwrap_or(i);
+        let end = (i..pairs.len())
+            .take_while(|&j| near(j))
+            .last()
+            .unwrap_or(i)
+            + 1;
+        if pencil.is_none() {
+            pencil = Some(sparse::Pencil::new(kc, Some(mc))?);
+        }
+        let p = pencil.as_ref().expect("made above");
+        let old: Vec<(f64, Vec<f64>)> = pairs[start..end].to_vec();
+        // A block that cannot be polished (a shift that stays singular) keeps its pairs,
+        // and the check flags them as before.
+        let polished = sparse::polish::polish_cluster(p, kc, mc, pairs, start..end, stats);
+        let again = pair_checks(n, (k, m), &pairs[start..end], 0.0);
+        let kept = polished.is_ok()
+            && (old.iter().zip(&pairs[start..end]))
+                .all(|(o, p)| (p.0 - o.0).abs() <= POLISH_MAX_SHIFT * o.0)
+            && worst(&again) < worst(&checked[start..end]);
+        if kept {
+            for (c, a) in checked[start..end].iter_mut().zip(again) {
+                *c = a;
+            }
+        } else {
+            pairs[start..end].clone_from_slice(&old);
+        }
+        i = end;
+    }
+    Ok(())
+}
+
+/// Largest relative move of an eigenvalue by polishing: its vector's improvement changes λ at
+/// second order, so anything larger means the block converged to other modes.
+const POLISH_MAX_SHIFT: f64 = 1e-8;
+
 /// Checks every kept pair: a round-off zero becomes exactly 0 (so the rigid-body modes form
 /// one cluster and get aligned with the axes), a negative λ beyond round-off is an error.
 /// Returns the number of zeros and the largest backward error with its mode index.
 fn check_pairs(
     model: &FeModel,
-    (k, m): (&Triplets, &Triplets),
+    checked: Vec<checks::PairCheck>,
     shapes: &mut [(f64, Vec<f64>)],
-    shift_abs: f64,
     unstable: bool,
 ) -> Result<(usize, (f64, usize)), crate::Error> {
-    use rayon::prelude::*;
-    let Some(n) = shapes.first().map(|s| s.1.len()) else {
-        return Ok((0, (0.0, 0)));
-    };
-    let (kr, mr) = (
-        checks::RowTriplets::new(n, k),
-        checks::RowTriplets::new(n, m),
-    );
-    // Each pair's check is independent of the others: in parallel, in mode order.
-    let checked: Vec<checks::PairCheck> = shapes
-        .par_iter()
-        .map(|(lambda, phi)| checks::check_pair(&kr, &mr, *lambda, phi, shift_abs))
-        .collect();
     let mut rigid = 0;
     let mut worst = (0.0f64, 0);
     for (i, ((lambda, _), c)) in shapes.iter_mut().zip(checked).enumerate() {

@@ -59,6 +59,7 @@ mod kernels;
 pub mod lanczos;
 mod layout;
 pub mod orthonormal;
+pub mod polish;
 pub mod slice;
 pub mod static_solve;
 
