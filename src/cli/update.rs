@@ -53,21 +53,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
 }
 
 fn summary(scene: &Path, u: &Update) -> Vec<String> {
-    let mut out = vec![format!(
-        "{}: {} parameter(s), {} target(s); {} iteration(s), {} ({}); RMS frequency error {:.3}% -> {:.3}%",
-        scene.display(),
-        u.parameters.len(),
-        u.targets.len(),
-        u.iterations,
-        if u.converged {
-            "converged"
-        } else {
-            "NOT converged"
-        },
-        u.stop,
-        u.residual_before_pct,
-        u.residual_after_pct
-    )];
+    let mut out = vec![format!("{}: {}", scene.display(), u.headline())];
     out.push(format!(
         "  {:<40} {:>13} {:>13} {:>29} {:>27}",
         "parameter", "start", "updated", "95% interval", "bounds"

@@ -129,20 +129,7 @@ fn document(u: &Update, after: &Correlation, figures: Vec<Figure>) -> Document {
                 gates: after.gates.len(),
                 failed,
             }),
-            Block::Paragraph(Text::plain(format!(
-                "{} parameter(s) fitted to {} paired test frequencies: {} iteration(s), {} ({}); RMS frequency error {:.3} % → {:.3} %.",
-                u.parameters.len(),
-                u.targets.len(),
-                u.iterations,
-                if u.converged {
-                    "converged"
-                } else {
-                    "NOT converged"
-                },
-                u.stop,
-                u.residual_before_pct,
-                u.residual_after_pct
-            ))),
+            Block::Paragraph(Text::plain(format!("{}.", u.headline()))),
         ],
         sections,
     }

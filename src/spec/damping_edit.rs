@@ -48,13 +48,8 @@ pub fn with_identified_damping(text: &str, points: &[IdentifiedDamping]) -> Resu
         let mut pair = Array::new();
         pair.push(round(p.frequency_hz, 4));
         pair.push(round(p.zeta, 6));
-        let mut v = Value::Array(pair);
-        v.decor_mut()
-            .set_prefix(format!("\n    # {}\n    ", p.source));
-        table.push_formatted(v);
+        push_annotated(&mut table, Value::Array(pair), &p.source);
     }
-    table.set_trailing("\n");
-    table.set_trailing_comma(true);
     damping.insert("table", Item::Value(Value::Array(table)));
     if !replaced.is_empty()
         && let Some(mut key) = damping.key_mut("table")
@@ -96,15 +91,18 @@ pub fn with_mode_damping(text: &str, entries: &[IdentifiedModeDamping]) -> Resul
         let mut t = toml_edit::InlineTable::new();
         t.insert("mode", Value::from(e.mode as i64));
         t.insert("zeta", Value::from(round(e.zeta, 6)));
-        let mut v = Value::InlineTable(t);
-        v.decor_mut()
-            .set_prefix(format!("\n    # {}\n    ", e.source));
-        modes.push_formatted(v);
+        push_annotated(&mut modes, Value::InlineTable(t), &e.source);
     }
-    modes.set_trailing("\n");
-    modes.set_trailing_comma(true);
     damping.insert("modes", Item::Value(Value::Array(modes)));
     Ok(doc.to_string())
+}
+
+/// Appends `v` to a multi-line array on its own line, under a comment naming its source.
+fn push_annotated(array: &mut Array, mut v: Value, source: &str) {
+    v.decor_mut().set_prefix(format!("\n    # {source}\n    "));
+    array.push_formatted(v);
+    array.set_trailing("\n");
+    array.set_trailing_comma(true);
 }
 
 /// `v` to `digits` significant decimals after the point: the table reads as written.

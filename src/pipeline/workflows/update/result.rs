@@ -64,6 +64,27 @@ pub struct Update {
     pub updated_text: String,
 }
 
+impl Update {
+    /// One line on how the fit went: counts, iterations, the stop and the RMS error before
+    /// and after (the command's first line and the report's preamble).
+    pub fn headline(&self) -> String {
+        format!(
+            "{} parameter(s), {} target(s); {} iteration(s), {} ({}); RMS frequency error {:.3}% -> {:.3}%",
+            self.parameters.len(),
+            self.targets.len(),
+            self.iterations,
+            if self.converged {
+                "converged"
+            } else {
+                "NOT converged"
+            },
+            self.stop,
+            self.residual_before_pct,
+            self.residual_after_pct
+        )
+    }
+}
+
 pub fn assemble(
     problem: &Problem,
     spec: &UpdateSpec,
