@@ -32,37 +32,46 @@ pub fn modal_with_solver(
     run(scene, &modal_options(scene, &overrides))
 }
 
-/// The modal analysis of a scene with resolved options.
+/// The modal analysis of a scene with resolved options. The buckling factor on the scene's
+/// buckling mesh needs nothing from the modes, so it is solved beside them.
 pub fn run(scene: &Scene, opts: &ModalOptions) -> Result<(FeModel, ModalSystem), Error> {
     let model = fe_model(scene)?;
-    let mut sys = crate::modal::analyze(&model, opts).map_err(|e| locate_modal_error(scene, e))?;
-    refine_buckling(scene, &mut sys, opts)?;
+    let (sys, fine_factor) = rayon::join(
+        || crate::modal::analyze(&model, opts).map_err(|e| locate_modal_error(scene, e)),
+        || fine_buckling_factor(scene, opts),
+    );
+    let mut sys = sys?;
+    if let Some(factor) = fine_factor {
+        set_fine_buckling(scene, &mut sys, factor?);
+    }
     Ok((model, sys))
 }
 
 /// The buckling factor retaken on the scene's buckling mesh, when it has one finer than the
 /// modes' (`stack.buckling_column_elements`); past buckling there is the same located error
-/// as on the modes' model.
-fn refine_buckling(scene: &Scene, sys: &mut ModalSystem, opts: &ModalOptions) -> Result<(), Error> {
-    let (Some(prestress), Some(fine)) = (sys.result.prestress.as_mut(), scene.buckling_model())
-    else {
-        return Ok(());
+/// as on the modes' model. `None` when the scene has no such mesh.
+fn fine_buckling_factor(scene: &Scene, opts: &ModalOptions) -> Option<Result<Option<f64>, Error>> {
+    let fine = scene.buckling_model()?;
+    let factor = FeModel::from_scene(&fine)
+        .map_err(|e| locate(scene, e))
+        .and_then(|model| {
+            crate::modal::buckling_factor_of(&model)
+                .and_then(|f| crate::modal::refuse_beyond_buckling(f, opts).map(|_| f))
+                .map_err(|e| locate_modal_error(scene, e))
+        });
+    Some(factor)
+}
+
+/// The prestress summary takes the buckling mesh's factor and says which model it came from.
+fn set_fine_buckling(scene: &Scene, sys: &mut ModalSystem, factor: Option<f64>) {
+    let (Some(prestress), Some(stack)) = (sys.result.prestress.as_mut(), &scene.file.stack) else {
+        return;
     };
-    let model = FeModel::from_scene(&fine).map_err(|e| locate(scene, e))?;
-    let factor = crate::modal::buckling_factor_of(&model)
-        .and_then(|f| crate::modal::refuse_beyond_buckling(f, opts).map(|_| f))
-        .map_err(|e| locate_modal_error(scene, e))?;
-    let stack = scene
-        .file
-        .stack
-        .as_ref()
-        .expect("a buckling model comes from [stack]");
     prestress.buckling_factor = factor;
     prestress.buckling_model = Some(format!(
         "the stack with {} elements per half column (stack.buckling_column_elements; the modes' model has {})",
         stack.buckling_column_elements, stack.column_elements
     ));
-    Ok(())
 }
 
 /// The FE model of a scene, with FE errors located in the scene.
