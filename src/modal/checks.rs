@@ -72,20 +72,32 @@ impl RowTriplets {
         RowTriplets { start, entries }
     }
 
-    /// A·φ and |A|·|φ|.
-    fn products(&self, phi: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    /// A·φ_b and |A|·|φ_b| for the `nb` modes of `phis`, interleaved (entry j of mode b at
+    /// j·nb + b, and so the results): each row is read once for the block, and each mode's
+    /// row sum runs over the entries in triplet order, as a check of that mode alone would.
+    fn block_products(&self, phis: &[f64], nb: usize) -> (Vec<f64>, Vec<f64>) {
         let n = self.start.len() - 1;
-        let mut y = vec![0.0; n];
-        let mut z = vec![0.0; n];
-        for i in 0..n {
+        let mut y = vec![0.0; n * nb];
+        let mut z = vec![0.0; n * nb];
+        for (i, (yi, zi)) in y
+            .chunks_exact_mut(nb)
+            .zip(z.chunks_exact_mut(nb))
+            .enumerate()
+        {
             for &(j, v) in &self.entries[self.start[i]..self.start[i + 1]] {
-                y[i] += v * phi[j];
-                z[i] += v.abs() * phi[j].abs();
+                let pj = &phis[j * nb..(j + 1) * nb];
+                for b in 0..nb {
+                    yi[b] += v * pj[b];
+                    zi[b] += v.abs() * pj[b].abs();
+                }
             }
         }
         (y, z)
     }
 }
+
+/// Modes checked together by [`check_pairs_block`]: K and M are read once per block.
+pub const CHECK_BLOCK: usize = 8;
 
 /// The backward error of (λ, φ) and whether λ is a round-off zero, for a λ computed with the
 /// shift σ (`shift_abs` = |σ|; 0 for a λ computed without one).
@@ -96,16 +108,52 @@ pub fn check_pair(
     phi: &[f64],
     shift_abs: f64,
 ) -> PairCheck {
+    check_pairs_block(k, m, &[(lambda, phi.to_vec())], shift_abs).remove(0)
+}
+
+/// [`check_pair`] of every pair of `pairs` (a block of a few), each figure the same as the
+/// single check gives.
+pub fn check_pairs_block(
+    k: &RowTriplets,
+    m: &RowTriplets,
+    pairs: &[(f64, Vec<f64>)],
+    shift_abs: f64,
+) -> Vec<PairCheck> {
+    let nb = pairs.len();
+    let Some(n) = pairs.first().map(|p| p.1.len()) else {
+        return Vec::new();
+    };
+    let mut phis = vec![0.0; n * nb];
+    for (b, (_, phi)) in pairs.iter().enumerate() {
+        for (j, &v) in phi.iter().enumerate() {
+            phis[j * nb + b] = v;
+        }
+    }
+    let (kphi, kabs) = k.block_products(&phis, nb);
+    let (mphi, mabs) = m.block_products(&phis, nb);
+    let mode =
+        |v: &[f64], b: usize| -> Vec<f64> { v.iter().skip(b).step_by(nb).copied().collect() };
+    pairs
+        .iter()
+        .enumerate()
+        .map(|(b, (lambda, phi))| {
+            let products = [&kphi, &kabs, &mphi, &mabs].map(|v| mode(v, b));
+            pair_check(*lambda, phi, &products, shift_abs)
+        })
+        .collect()
+}
+
+/// The check of (λ, φ) from its products [Kφ, |K||φ|, Mφ, |M||φ|].
+fn pair_check(lambda: f64, phi: &[f64], products: &[Vec<f64>; 4], shift_abs: f64) -> PairCheck {
     let n = phi.len();
-    let (kphi, kabs) = k.products(phi);
-    let (mphi, mabs) = m.products(phi);
+    let [kphi, kabs, mphi, mabs] = products;
     let r: f64 = (0..n)
         .map(|i| (kphi[i] - lambda * mphi[i]).powi(2))
         .sum::<f64>()
         .sqrt();
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let scale = norm(&kabs) + lambda.abs() * norm(&mabs);
-    let energy_floor: f64 = phi.iter().zip(&kabs).map(|(p, a)| p.abs() * a).sum();
+    let scale = norm(kabs) + lambda.abs() * norm(mabs);
+    let energy_floor: f64 = phi.iter().zip(kabs).map(|(p, a)| p.abs() * a).sum();
     PairCheck {
         backward_error: if scale > 0.0 { r / scale } else { 0.0 },
         zero: lambda.abs() <= ZERO_EIGENVALUE_ULPS * f64::EPSILON * (energy_floor + shift_abs),

@@ -654,8 +654,8 @@ fn pair_checks(
         checks::RowTriplets::new(n, m),
     );
     shapes
-        .par_iter()
-        .map(|(lambda, phi)| checks::check_pair(&kr, &mr, *lambda, phi, shift_abs))
+        .par_chunks(checks::CHECK_BLOCK)
+        .flat_map_iter(|block| checks::check_pairs_block(&kr, &mr, block, shift_abs))
         .collect()
 }
 
