@@ -111,6 +111,7 @@ fn frame(nx: usize, ny: usize, levels: usize, elements: usize, free: bool, load_
         elements,
         free,
         load_n,
+        beams_and_point_masses: false,
     }
     .scene()
 }

@@ -11,6 +11,7 @@
 mod ema;
 mod fem;
 mod modal;
+mod modal_peers;
 mod modal_sweep;
 mod psd;
 mod psd_srs;

@@ -1,7 +1,9 @@
-//! `satqual bench modal`: the sparse modal solver on stacks of 6, 20, 60 and 120 satellites
-//! (every mode below 2 kHz), against `scipy.sparse.linalg.eigsh` in shift-invert mode on the
-//! same exported matrices at the same tolerance, plus the dense/sparse crossover that sets
-//! the cost model of `SolverChoice::Auto` (`modal::auto_prefers_sparse`), and the band-edge sweep of `fmax` ([`super::modal_sweep`]).
+//! `satqual bench modal`: the sparse modal solver on stacks of 6, 20, 60, 120 and 200
+//! satellites (every mode below 2 kHz), against `scipy.sparse.linalg.eigsh` in shift-invert
+//! mode on the same exported matrices at the same tolerance, plus the dense/sparse crossover
+//! that sets the cost model of `SolverChoice::Auto` (`modal::auto_prefers_sparse`), a few
+//! modes against eigsh, LAPACK and CalculiX ([`super::modal_peers`]), and the band-edge sweep
+//! of `fmax` ([`super::modal_sweep`]).
 //! Writes `modal.json` and `modal.md`.
 //!
 //! The stacks come from `test-specs/paper-stack.toml` with `satellites = N` substituted (and
@@ -23,7 +25,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 const FMAX_HZ: f64 = 2000.0;
-const SATELLITES: [usize; 4] = [6, 20, 60, 120];
+const SATELLITES: [usize; 5] = [6, 20, 60, 120, 200];
 /// The tolerance both solvers are given: eigsh's `tol` (‖OP·y − θ·y‖ ≤ tol·|θ|, ARPACK's
 /// criterion) and the sparse module's `RESIDUAL_TOL` (the same bound scaled to a relative
 /// eigenvalue error, see `modal::sparse`).
@@ -102,6 +104,7 @@ struct Report {
     tolerance: f64,
     stacks: Vec<StackRow>,
     crossover: Vec<CrossRow>,
+    few_modes: Vec<super::modal_peers::PeerRow>,
     /// The cost model of `SolverChoice::Auto`: dense s per DOF³, sparse s per DOF·mode.
     auto_cost_model: [f64; 2],
     fmax_sweep: Vec<super::modal_sweep::SweepRow>,
@@ -116,8 +119,12 @@ pub fn run(out: &Path) -> Result<(String, String), Error> {
     let python = python_with_scipy();
     let (model_note, scenes) = stack_scenes()?;
     let mut stacks = Vec::new();
+    // eigsh only gets slower with the stack: once stopped at its time limit it is not run on
+    // the larger ones.
+    let mut eigsh_stopped = false;
     for (n, text) in scenes {
-        let mut row = bench_stack(&work, n, &text, python.as_deref())?;
+        let py = python.as_deref().filter(|_| !eigsh_stopped);
+        let mut row = bench_stack(&work, n, &text, py)?;
         // A stack beyond its buckling load with open bores (the 120-satellite one, 66 m of
         // bars) is measured with the bars bearing on the bores, and says so.
         if let Some(err) = row
@@ -126,13 +133,23 @@ pub fn run(out: &Path) -> Result<(String, String), Error> {
             .filter(|e| e.starts_with("satqual failed") && e.contains("buckling load"))
         {
             let closed = catalogue::generated::with_closed_bores(&text);
-            row = bench_stack(&work, n, &closed, python.as_deref())?;
+            row = bench_stack(&work, n, &closed, py)?;
             let why = err.trim_start_matches("satqual failed: ");
             row.model_note = Some(format!("bar_bore = \"closed\": with open bores {why}"));
         }
+        if eigsh_stopped && python.is_some() {
+            row.eigsh_note = Some(format!(
+                "eigsh not run: stopped at {EIGSH_LIMIT_S:.0} s on a smaller stack"
+            ));
+        }
+        eigsh_stopped |= row
+            .eigsh_note
+            .as_deref()
+            .is_some_and(|e| e.contains("did not finish"));
         stacks.push(row);
     }
     let crossover = crossover()?;
+    let few_modes = super::modal_peers::run(&work)?;
     let fmax_sweep = super::modal_sweep::run()?;
     let report = Report {
         model: model_note,
@@ -141,6 +158,7 @@ pub fn run(out: &Path) -> Result<(String, String), Error> {
         tolerance: TOL,
         stacks,
         crossover,
+        few_modes,
         auto_cost_model: [
             crate::modal::DENSE_S_PER_DOF3,
             crate::modal::SPARSE_S_PER_DOF_MODE,
@@ -382,11 +400,12 @@ fn markdown(r: &Report) -> String {
             c.dofs, c.modes, c.dense_s, c.sparse_s
         );
     }
+    s.push_str(&super::modal_peers::markdown(&r.few_modes));
     s.push_str(&super::modal_sweep::markdown(&r.fmax_sweep));
     s
 }
 
-fn load_average() -> String {
+pub(super) fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_default()
@@ -403,7 +422,7 @@ fn peak_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
-fn python_with_scipy() -> Option<PathBuf> {
+pub(super) fn python_with_scipy() -> Option<PathBuf> {
     let ok = std::process::Command::new("python3")
         .args(["-c", "import scipy.sparse.linalg, scipy.io"])
         .output()
@@ -416,12 +435,19 @@ fn python_with_scipy() -> Option<PathBuf> {
 /// `satqual modal SCENE --fmax FMAX --json` by this executable, output discarded: the wall
 /// time of the whole process, as a user sees it. `None` when it does not run.
 fn cli_time(scene: &Path) -> Option<f64> {
+    cli_time_with(scene, &["--fmax", &FMAX_HZ.to_string()])
+}
+
+/// `satqual modal SCENE ARGS --json` by this executable, output discarded: the process's wall
+/// time, or `None` when it does not run.
+pub(super) fn cli_time_with(scene: &Path, args: &[&str]) -> Option<f64> {
     let exe = std::env::current_exe().ok()?;
     let t0 = Instant::now();
     let status = std::process::Command::new(exe)
         .arg("modal")
         .arg(scene)
-        .args(["--fmax", &FMAX_HZ.to_string(), "--json"])
+        .args(args)
+        .arg("--json")
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
         .status()
@@ -468,8 +494,26 @@ print(json.dumps({{"time": t, "freq": f.tolist(), "lapack": lapack}}))
         dense_max = DENSE_MAX_DOFS,
         fmax = FMAX_HZ
     );
+    let v = python_json(py, &script, "eigsh")?;
+    let t = v["time"].as_f64().ok_or("eigsh output: no time")?;
+    let f = v["freq"]
+        .as_array()
+        .ok_or("eigsh output: no frequencies")?
+        .iter()
+        .filter_map(|x| x.as_f64())
+        .collect();
+    Ok((t, f, v["lapack"].as_f64()))
+}
+
+/// Runs `script` with python3 on one OpenBLAS thread and parses the JSON it prints; stopped
+/// after [`EIGSH_LIMIT_S`]. `what` names the peer in the errors.
+pub(super) fn python_json(
+    py: &Path,
+    script: &str,
+    what: &str,
+) -> Result<serde_json::Value, String> {
     let mut child = std::process::Command::new(py)
-        .args(["-c", &script])
+        .args(["-c", script])
         .env("OPENBLAS_NUM_THREADS", "1")
         .env("OMP_NUM_THREADS", "1")
         .stdout(std::process::Stdio::piped())
@@ -484,7 +528,7 @@ print(json.dumps({{"time": t, "freq": f.tolist(), "lapack": lapack}}))
                 let _ = child.kill();
                 let _ = child.wait();
                 return Err(format!(
-                    "eigsh did not finish within {EIGSH_LIMIT_S:.0} s (stopped)"
+                    "{what} did not finish within {EIGSH_LIMIT_S:.0} s (stopped)"
                 ));
             }
             Ok(None) => std::thread::sleep(std::time::Duration::from_millis(50)),
@@ -497,20 +541,11 @@ print(json.dumps({{"time": t, "freq": f.tolist(), "lapack": lapack}}))
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
         return Err(format!(
-            "eigsh failed: {}",
+            "{what} failed: {}",
             err.lines().last().unwrap_or("").trim()
         ));
     }
-    let v: serde_json::Value =
-        serde_json::from_slice(&out.stdout).map_err(|e| format!("eigsh output: {e}"))?;
-    let t = v["time"].as_f64().ok_or("eigsh output: no time")?;
-    let f = v["freq"]
-        .as_array()
-        .ok_or("eigsh output: no frequencies")?
-        .iter()
-        .filter_map(|x| x.as_f64())
-        .collect();
-    Ok((t, f, v["lapack"].as_f64()))
+    serde_json::from_slice(&out.stdout).map_err(|e| format!("{what} output: {e}"))
 }
 
 /// The stack scenes: the paper stack with `satellites = N`.

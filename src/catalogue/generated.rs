@@ -86,6 +86,16 @@ pub struct FrameTower {
     /// A downward force on every top node, which puts the columns in compression (prestress
     /// and buckling); 0 for none.
     pub load_n: f64,
+    /// Beams and plain point masses only (no springs, no mass offsets or inertias): the model
+    /// a general FE code holds as it is (`bench modal` solves it with CalculiX too).
+    pub beams_and_point_masses: bool,
+}
+
+/// One member of a [`FrameTower`]: its end nodes, section name and axis (0 = x, 1 = y, 2 = z).
+pub struct TowerMember {
+    pub nodes: [usize; 2],
+    pub section: &'static str,
+    pub axis: usize,
 }
 
 impl FrameTower {
@@ -98,11 +108,90 @@ impl FrameTower {
             elements: 2,
             free: false,
             load_n: 0.0,
+            beams_and_point_masses: false,
         }
     }
 
     fn id(&self, i: usize, j: usize, k: usize) -> usize {
         1 + i + self.nx * (j + self.ny * k)
+    }
+
+    /// Every node as (id, position in m), by floor, then row, then column.
+    pub fn nodes(&self) -> Vec<(usize, [f64; 3])> {
+        let mut v = Vec::new();
+        for k in 0..=self.levels {
+            for j in 0..self.ny {
+                for i in 0..self.nx {
+                    let p = [1.1 * i as f64, 0.8 * j as f64, 0.7 * k as f64];
+                    v.push((self.id(i, j, k), p));
+                }
+            }
+        }
+        v
+    }
+
+    /// The members at grid point (i, j, k): the x and y floor beams starting there (above
+    /// the base) and the column up from it.
+    fn members_at(&self, i: usize, j: usize, k: usize) -> Vec<TowerMember> {
+        let here = self.id(i, j, k);
+        let mut v = Vec::new();
+        if k > 0 && i + 1 < self.nx {
+            v.push(TowerMember {
+                nodes: [here, self.id(i + 1, j, k)],
+                section: "tube",
+                axis: 0,
+            });
+        }
+        if k > 0 && j + 1 < self.ny {
+            v.push(TowerMember {
+                nodes: [here, self.id(i, j + 1, k)],
+                section: "rect",
+                axis: 1,
+            });
+        }
+        if k < self.levels {
+            v.push(TowerMember {
+                nodes: [here, self.id(i, j, k + 1)],
+                section: "tube",
+                axis: 2,
+            });
+        }
+        v
+    }
+
+    /// Every member, in the order the scene lists them.
+    pub fn members(&self) -> Vec<TowerMember> {
+        let mut v = Vec::new();
+        for k in 0..=self.levels {
+            for j in 0..self.ny {
+                for i in 0..self.nx {
+                    v.extend(self.members_at(i, j, k));
+                }
+            }
+        }
+        v
+    }
+
+    /// The top-floor point masses as (node, kg).
+    pub fn top_masses(&self) -> Vec<(usize, f64)> {
+        let mut v = Vec::new();
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                v.push((self.id(i, j, self.levels), 20.0 + 3.0 * (i + 2 * j) as f64));
+            }
+        }
+        v
+    }
+
+    /// The base nodes (clamped unless the tower is free).
+    pub fn base_nodes(&self) -> Vec<usize> {
+        let mut v = Vec::new();
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                v.push(self.id(i, j, 0));
+            }
+        }
+        v
     }
 
     /// The tower as scene text.
@@ -112,53 +201,35 @@ impl FrameTower {
              [[section]]\nname = \"tube\"\nshape = \"tube\"\nouter_diameter_m = 0.06\ninner_diameter_m = 0.05\n\n\
              [[section]]\nname = \"rect\"\nshape = \"rectangle\"\nwidth_m = 0.04\nheight_m = 0.03\n\n",
         );
-        self.write_nodes(&mut s);
+        for (id, [x, y, z]) in self.nodes() {
+            let _ = writeln!(s, "[[node]]\nid = {id}\nposition_m = [{x}, {y}, {z}]\n");
+        }
         self.write_members(&mut s);
         self.write_top_and_base(&mut s);
         s
     }
 
-    fn write_nodes(&self, s: &mut String) {
+    fn write_members(&self, s: &mut String) {
+        let springs = !self.free && !self.beams_and_point_masses;
         for k in 0..=self.levels {
             for j in 0..self.ny {
                 for i in 0..self.nx {
-                    let (x, y, z) = (1.1 * i as f64, 0.8 * j as f64, 0.7 * k as f64);
-                    let id = self.id(i, j, k);
-                    let _ = writeln!(s, "[[node]]\nid = {id}\nposition_m = [{x}, {y}, {z}]\n");
-                }
-            }
-        }
-    }
-
-    fn write_members(&self, s: &mut String) {
-        let beam = |s: &mut String, a: usize, b: usize, section: &str| {
-            let _ = writeln!(
-                s,
-                "[[beam]]\nnodes = [{a}, {b}]\nsection = \"{section}\"\nmaterial = \"steel\"\nelements = {}\n",
-                self.elements
-            );
-        };
-        let (nx, ny, levels) = (self.nx, self.ny, self.levels);
-        for k in 0..=levels {
-            for j in 0..ny {
-                for i in 0..nx {
-                    let here = self.id(i, j, k);
-                    if k > 0 && i + 1 < nx {
-                        beam(s, here, self.id(i + 1, j, k), "tube");
-                    }
-                    if k > 0 && j + 1 < ny {
-                        beam(s, here, self.id(i, j + 1, k), "rect");
-                    }
-                    if k < levels {
-                        beam(s, here, self.id(i, j, k + 1), "tube");
+                    for m in self.members_at(i, j, k) {
+                        let [a, b] = m.nodes;
+                        let _ = writeln!(
+                            s,
+                            "[[beam]]\nnodes = [{a}, {b}]\nsection = \"{}\"\nmaterial = \"steel\"\nelements = {}\n",
+                            m.section, self.elements
+                        );
                     }
                     // The springs act along global axes between distinct points, so a rigid
                     // rotation strains them: the free-free tower goes without.
-                    let diagonal = i + 1 < nx && j + 1 < ny && (i + j + k) % 2 == 0;
-                    if !self.free && k < levels && diagonal {
+                    let diagonal = i + 1 < self.nx && j + 1 < self.ny && (i + j + k) % 2 == 0;
+                    if springs && k < self.levels && diagonal {
                         let _ = writeln!(
                             s,
-                            "[[spring]]\nnodes = [{here}, {}]\nstiffness = [2e6, 3e6, 1e6, 1e4, 2e4, 5e3]\n",
+                            "[[spring]]\nnodes = [{}, {}]\nstiffness = [2e6, 3e6, 1e6, 1e4, 2e4, 5e3]\n",
+                            self.id(i, j, k),
                             self.id(i + 1, j + 1, k + 1)
                         );
                     }
@@ -168,25 +239,24 @@ impl FrameTower {
     }
 
     fn write_top_and_base(&self, s: &mut String) {
-        for j in 0..self.ny {
-            for i in 0..self.nx {
-                let top = self.id(i, j, self.levels);
-                let mass_kg = 20.0 + 3.0 * (i + 2 * j) as f64;
+        for ((top, mass_kg), base) in self.top_masses().into_iter().zip(self.base_nodes()) {
+            if self.beams_and_point_masses {
+                let _ = writeln!(s, "[[mass]]\nnode = {top}\nmass_kg = {mass_kg}\n");
+            } else {
                 let _ = writeln!(
                     s,
                     "[[mass]]\nnode = {top}\nmass_kg = {mass_kg}\ninertia_kg_m2 = [0.5, 0.7, 0.9]\noffset_m = [0.05, -0.03, 0.1]\n"
                 );
-                if !self.free {
-                    let base = self.id(i, j, 0);
-                    let _ = writeln!(s, "[[support]]\nnode = {base}\ndofs = \"123456\"\n");
-                }
-                if self.load_n != 0.0 {
-                    let _ = writeln!(
-                        s,
-                        "[[static_load]]\nnode = {top}\nforce_n = [0.0, 0.0, {}]\n",
-                        -self.load_n
-                    );
-                }
+            }
+            if !self.free {
+                let _ = writeln!(s, "[[support]]\nnode = {base}\ndofs = \"123456\"\n");
+            }
+            if self.load_n != 0.0 {
+                let _ = writeln!(
+                    s,
+                    "[[static_load]]\nnode = {top}\nforce_n = [0.0, 0.0, {}]\n",
+                    -self.load_n
+                );
             }
         }
     }
