@@ -24,18 +24,15 @@ pub struct Args {
     pub quiet: bool,
 }
 
-/// A gate's name, value and limit with their unit, and margin, on one line.
+/// A gate's name, value and limit with their unit (as the report writes them), and margin,
+/// on one line.
 fn gate_line(g: &Verdict) -> String {
-    let unit = if g.unit.is_empty() {
-        String::new()
-    } else {
-        format!(" {}", g.unit)
-    };
+    use satqual::report::format::quantity;
     format!(
-        "{}: value {:.4}{unit}, limit {:.4}{unit}, margin {}",
+        "{}: value {}, limit {}, margin {}",
         g.name,
-        g.value,
-        g.limit,
+        quantity(g.value, &g.unit),
+        quantity(g.limit, &g.unit),
         satqual::gates::summary::margin_text(g)
     )
 }

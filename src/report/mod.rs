@@ -4,6 +4,7 @@
 mod build;
 pub mod document;
 mod figures;
+pub mod format;
 pub mod mac_heatmap;
 pub mod plot;
 pub mod qualify;

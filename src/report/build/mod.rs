@@ -15,6 +15,7 @@ mod test_data;
 
 use super::Qualification;
 use super::document::{Block, Document, Figure, Section};
+pub(super) use super::format::{number, quantity};
 
 /// The report of `q`, with `figures` (already drawn) in its Plots section.
 pub fn document(q: &Qualification, figures: Vec<Figure>) -> Document {
@@ -38,30 +39,6 @@ pub fn document(q: &Qualification, figures: Vec<Figure>) -> Document {
         ),
         preamble: gates::preamble(q),
         sections,
-    }
-}
-
-/// A number for a table: four decimals, or scientific notation when very large or small;
-/// a dash for a non-finite value.
-fn number(v: f64) -> String {
-    if !v.is_finite() {
-        return "–".into();
-    }
-    let a = v.abs();
-    if a != 0.0 && !(1e-3..1e5).contains(&a) {
-        format!("{v:.4e}")
-    } else {
-        format!("{v:.4}")
-    }
-}
-
-/// A value with its unit for a table; stresses in MPa, which reads better than Pa.
-fn quantity(v: f64, unit: &str) -> String {
-    match unit {
-        "" => number(v),
-        "Pa" => format!("{} MPa", number(v / 1e6)),
-        _ if !v.is_finite() => number(v),
-        _ => format!("{} {unit}", number(v)),
     }
 }
 
