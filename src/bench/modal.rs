@@ -93,6 +93,11 @@ struct CrossRow {
     modes: usize,
     dense_s: f64,
     sparse_s: f64,
+    /// Each path's worst backward error ‖Kφ − λMφ‖ / (‖|K||φ|‖ + |λ|·‖|M||φ|‖).
+    dense_backward_error: Option<f64>,
+    sparse_backward_error: Option<f64>,
+    /// Largest |f_sparse − f_dense| / f_dense over the modes.
+    max_rel_freq_diff: f64,
 }
 
 #[derive(Serialize)]
@@ -379,15 +384,20 @@ fn markdown(r: &Report) -> String {
          the dense cost as {:.1e} s × DOFs³ + {:.1e} s × DOFs × modes² (the kept modes' \
          orthonormalisation and checks) and the sparse one as {:.1e} s × DOFs × max(modes, {}) \
          (constants fitted to this table, see `modal::auto_prefers_sparse`) and takes the cheaper; \
-         up to {} DOFs it stays dense. The last column is its choice.\n",
+         up to {} DOFs it stays dense. Error of each path: its worst backward error \
+         ‖Kφ − λMφ‖ / (‖|K||φ|‖ + |λ|·‖|M||φ|‖), and the largest relative difference of the two \
+         paths' frequencies. The last column is `Auto`'s choice.\n",
         r.auto_cost_model[0],
         crate::modal::DENSE_S_PER_DOF_MODE2,
         r.auto_cost_model[1],
         crate::modal::SPARSE_MIN_MODES,
         crate::modal::AUTO_DENSE_DOFS
     );
-    let _ = writeln!(s, "| DOFs | modes | dense [s] | sparse [s] | auto |");
-    let _ = writeln!(s, "|---:|---:|---:|---:|---|");
+    let _ = writeln!(
+        s,
+        "| DOFs | modes | dense [s] | dense backward error | sparse [s] | sparse backward error | max rel Δf | auto |"
+    );
+    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---|");
     for c in &r.crossover {
         let auto = if crate::modal::auto_prefers_sparse(c.dofs, c.modes) {
             "sparse"
@@ -396,13 +406,24 @@ fn markdown(r: &Report) -> String {
         };
         let _ = writeln!(
             s,
-            "| {} | {} | {:.3} | {:.3} | {auto} |",
-            c.dofs, c.modes, c.dense_s, c.sparse_s
+            "| {} | {} | {:.3} | {} | {:.3} | {} | {:.1e} | {auto} |",
+            c.dofs,
+            c.modes,
+            c.dense_s,
+            sci(c.dense_backward_error),
+            c.sparse_s,
+            sci(c.sparse_backward_error),
+            c.max_rel_freq_diff
         );
     }
     s.push_str(&super::modal_peers::markdown(&r.few_modes));
     s.push_str(&super::modal_sweep::markdown(&r.fmax_sweep));
     s
+}
+
+/// A value in scientific notation with one decimal, or a dash.
+fn sci(v: Option<f64>) -> String {
+    v.map_or("–".into(), |x| format!("{x:.1e}"))
 }
 
 pub(super) fn load_average() -> String {
@@ -572,12 +593,13 @@ fn crossover() -> Result<Vec<CrossRow>, Error> {
         let n = model.reduction()?.n_red;
         let modes = (n / 10).clamp(1, 100);
         let mut t = [0.0; 2];
+        let mut results = Vec::new();
         for (i, solver) in [SolverChoice::Dense, SolverChoice::Sparse]
             .iter()
             .enumerate()
         {
             let t0 = Instant::now();
-            analyze(
+            let sys = analyze(
                 &model,
                 &ModalOptions {
                     fmax_hz: None,
@@ -587,9 +609,19 @@ fn crossover() -> Result<Vec<CrossRow>, Error> {
                 },
             )?;
             t[i] = t0.elapsed().as_secs_f64();
+            results.push(sys.result);
         }
+        let freqs = |r: &crate::modal::ModalResult| -> Vec<f64> {
+            r.modes.iter().map(|m| m.frequency_hz).collect()
+        };
+        let (dense, sparse) = (&results[0], &results[1]);
+        let max_rel_freq_diff = freqs(sparse)
+            .iter()
+            .zip(freqs(dense))
+            .map(|(s, d)| (s - d).abs() / d.abs())
+            .fold(0.0, f64::max);
         eprintln!(
-            "crossover: {n} DOFs, {modes} modes: dense {:.3} s, sparse {:.3} s",
+            "crossover: {n} DOFs, {modes} modes: dense {:.3} s, sparse {:.3} s, max rel Δf {max_rel_freq_diff:.1e}",
             t[0], t[1]
         );
         rows.push(CrossRow {
@@ -597,6 +629,9 @@ fn crossover() -> Result<Vec<CrossRow>, Error> {
             modes,
             dense_s: t[0],
             sparse_s: t[1],
+            dense_backward_error: dense.dense.as_ref().map(|d| d.max_backward_error),
+            sparse_backward_error: sparse.sparse.as_ref().map(|st| st.max_backward_error),
+            max_rel_freq_diff,
         });
     }
     Ok(rows)
