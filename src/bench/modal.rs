@@ -426,7 +426,7 @@ fn markdown(r: &Report) -> String {
 }
 
 /// A value in scientific notation with one decimal, or a dash.
-fn sci(v: Option<f64>) -> String {
+pub(super) fn sci(v: Option<f64>) -> String {
     v.map_or("–".into(), |x| format!("{x:.1e}"))
 }
 
@@ -544,13 +544,17 @@ print(json.dumps({{"time": t, "freq": f.tolist(), "lapack": lapack}}))
     );
     let v = python_json(py, &script, "eigsh")?;
     let t = v["time"].as_f64().ok_or("eigsh output: no time")?;
-    let f = v["freq"]
+    Ok((t, frequencies(&v)?, v["lapack"].as_f64()))
+}
+
+/// The `freq` array of the peer scripts' JSON output, Hz.
+pub(super) fn frequencies(v: &serde_json::Value) -> Result<Vec<f64>, String> {
+    Ok(v["freq"]
         .as_array()
         .ok_or("eigsh output: no frequencies")?
         .iter()
         .filter_map(|x| x.as_f64())
-        .collect();
-    Ok((t, f, v["lapack"].as_f64()))
+        .collect())
 }
 
 /// Runs `script` with python3 on one OpenBLAS thread and parses the JSON it prints; stopped

@@ -4,7 +4,9 @@
 //! subset eigh on the same exported matrices, and by CalculiX (`ccx`, 3-node B32R beams on the
 //! same geometry and element count, which it expands into 20-node bricks).
 
-use super::modal::{REPEAT_BELOW_S, REPEATS, cli_time_with, python_json, python_with_scipy};
+use super::modal::{
+    REPEAT_BELOW_S, REPEATS, cli_time_with, frequencies, python_json, python_with_scipy, sci,
+};
 use crate::Error;
 use crate::catalogue::generated::{FrameTower, TowerMember};
 use crate::fem::FeModel;
@@ -159,13 +161,7 @@ print(json.dumps({{"eigsh": t, "lapack": t2, "freq": f.tolist()}}))
     let v = python_json(py, &script, "eigsh")?;
     let te = v["eigsh"].as_f64().ok_or("eigsh output: no time")?;
     let tl = v["lapack"].as_f64().ok_or("eigsh output: no LAPACK time")?;
-    let f = v["freq"]
-        .as_array()
-        .ok_or("eigsh output: no frequencies")?
-        .iter()
-        .filter_map(|x| x.as_f64())
-        .collect();
-    Ok((te, tl, f))
+    Ok((te, tl, frequencies(&v)?))
 }
 
 /// `ccx` on PATH, if installed (`apt-get install calculix-ccx`).
@@ -333,7 +329,6 @@ pub(super) fn markdown(rows: &[PeerRow]) -> String {
          |---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n"
     );
     let f = |v: Option<f64>, p: usize| v.map_or("–".into(), |x| format!("{x:.p$}"));
-    let e = |v: Option<f64>| v.map_or("–".into(), |x| format!("{x:.1e}"));
     for r in rows {
         let _ = writeln!(
             s,
@@ -345,8 +340,8 @@ pub(super) fn markdown(rows: &[PeerRow]) -> String {
             f(r.lapack_s, 3),
             f(r.calculix_process_s, 3),
             f(r.ratio_over_best_peer, 2),
-            e(r.max_rel_freq_diff_vs_eigsh),
-            e(r.max_rel_freq_diff_vs_calculix),
+            sci(r.max_rel_freq_diff_vs_eigsh),
+            sci(r.max_rel_freq_diff_vs_calculix),
             r.notes.join("; ")
         );
     }

@@ -28,11 +28,7 @@ pub fn with_identified_damping(text: &str, points: &[IdentifiedDamping]) -> Resu
         ));
     }
     let mut doc: DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
-    let damping = doc
-        .entry("damping")
-        .or_insert(Item::Table(toml_edit::Table::new()))
-        .as_table_mut()
-        .ok_or("`damping` is not a table")?;
+    let damping = damping_table(&mut doc)?;
     let mut replaced = String::new();
     for key in ["q", "zeta", "table"] {
         if let Some(old) = damping.remove(key) {
@@ -59,6 +55,14 @@ pub fn with_identified_damping(text: &str, points: &[IdentifiedDamping]) -> Resu
     Ok(doc.to_string())
 }
 
+/// The scene's `[damping]` table, created when it has none.
+fn damping_table(doc: &mut DocumentMut) -> Result<&mut toml_edit::Table, String> {
+    doc.entry("damping")
+        .or_insert(Item::Table(toml_edit::Table::new()))
+        .as_table_mut()
+        .ok_or_else(|| "`damping` is not a table".into())
+}
+
 /// One mode's identified ratio: its 1-based number, ζ and a one-line note of its source.
 pub struct IdentifiedModeDamping {
     pub mode: usize,
@@ -70,11 +74,7 @@ pub struct IdentifiedModeDamping {
 /// in place of any entry of theirs; other entries, the base damping and every comment stay.
 pub fn with_mode_damping(text: &str, entries: &[IdentifiedModeDamping]) -> Result<String, String> {
     let mut doc: DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
-    let damping = doc
-        .entry("damping")
-        .or_insert(Item::Table(toml_edit::Table::new()))
-        .as_table_mut()
-        .ok_or("`damping` is not a table")?;
+    let damping = damping_table(&mut doc)?;
     let mut modes = match damping.remove("modes") {
         None => Array::new(),
         Some(Item::Value(Value::Array(a))) => a,
