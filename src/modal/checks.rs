@@ -99,20 +99,9 @@ impl RowTriplets {
 /// Modes checked together by [`check_pairs_block`]: K and M are read once per block.
 pub const CHECK_BLOCK: usize = 8;
 
-/// The backward error of (λ, φ) and whether λ is a round-off zero, for a λ computed with the
-/// shift σ (`shift_abs` = |σ|; 0 for a λ computed without one).
-pub fn check_pair(
-    k: &RowTriplets,
-    m: &RowTriplets,
-    lambda: f64,
-    phi: &[f64],
-    shift_abs: f64,
-) -> PairCheck {
-    check_pairs_block(k, m, &[(lambda, phi.to_vec())], shift_abs).remove(0)
-}
-
-/// [`check_pair`] of every pair of `pairs` (a block of a few), each figure the same as the
-/// single check gives.
+/// The backward error of each (λ, φ) of `pairs` (a block of a few) and whether λ is a
+/// round-off zero, for λs computed with the shift σ (`shift_abs` = |σ|; 0 for λs computed
+/// without one). Each figure is the same as the block of that pair alone gives.
 pub fn check_pairs_block(
     k: &RowTriplets,
     m: &RowTriplets,
@@ -210,12 +199,18 @@ mod tests {
     fn exact_pairs_have_no_residual_and_a_zero_is_recognised() {
         let k = RowTriplets::new(2, &vec![(0, 0, 2.0)]);
         let m = RowTriplets::new(2, &vec![(0, 0, 1.0), (1, 1, 1.0)]);
-        let c = check_pair(&k, &m, 2.0, &[1.0, 0.0], 0.0);
+        let pairs = [
+            (2.0, vec![1.0, 0.0]),
+            (0.0, vec![0.0, 1.0]),
+            (1.0, vec![1.0, 0.0]),
+        ];
+        let checks = check_pairs_block(&k, &m, &pairs, 0.0);
+        let [c, z, off] = &checks[..] else {
+            panic!("one check per pair");
+        };
         assert_eq!(c.backward_error, 0.0);
         assert!(!c.zero);
-        let z = check_pair(&k, &m, 0.0, &[0.0, 1.0], 0.0);
         assert!(z.zero);
-        let off = check_pair(&k, &m, 1.0, &[1.0, 0.0], 0.0);
         assert!((off.backward_error - 1.0 / 3.0).abs() < 1e-15);
     }
 
