@@ -28,6 +28,7 @@ fn solve(model: &FeModel, solver: SolverChoice, fmax_hz: Option<f64>) -> ModalRe
             modes: None,
             solver,
             stop_beyond_buckling: false,
+            ..Default::default()
         },
     )
     .unwrap_or_else(|e| panic!("{solver:?} at fmax {fmax_hz:?}: {e}"))

@@ -10,7 +10,7 @@
 use satqual::catalogue::{self, generated::FrameTower};
 use satqual::error::{Error, FemError, ModalError};
 use satqual::fem::FeModel;
-use satqual::modal::{ModalOptions, ModalResult, analyze, sparse::sturm_check};
+use satqual::modal::{ModalOptions, ModalResult, Shapes, analyze, sparse::sturm_check};
 use satqual::spec::{Scene, SolverChoice};
 
 const FREQ_TOL: f64 = 1e-8;
@@ -34,6 +34,7 @@ fn solve(
             modes,
             solver,
             stop_beyond_buckling: false,
+            ..Default::default()
         },
     )
     .unwrap_or_else(|e| panic!("{solver:?}: {e}"))
@@ -226,6 +227,7 @@ fn prestress_static_solve_and_buckling_agree() {
                 modes: None,
                 solver,
                 stop_beyond_buckling: false,
+                ..Default::default()
             },
         )
         .unwrap()
@@ -284,6 +286,7 @@ fn sparse_without_a_band_is_refused() {
             modes: None,
             solver: SolverChoice::Sparse,
             stop_beyond_buckling: false,
+            ..Default::default()
         },
     )
     .unwrap_err();
@@ -307,6 +310,7 @@ fn sparse_static_solve_names_the_mechanism() {
             modes: None,
             solver: SolverChoice::Sparse,
             stop_beyond_buckling: false,
+            ..Default::default()
         },
     )
     .unwrap_err();
@@ -332,6 +336,7 @@ fn paper_stack_dense_and_sparse_agree() {
                 modes: None,
                 solver,
                 stop_beyond_buckling: false,
+                ..Default::default()
             },
         )
         .unwrap()
@@ -487,4 +492,32 @@ fn auto_solves_only_what_the_scene_asks() {
     let cantilever = load("test-specs/verification/cantilever.toml");
     let small = solve(&cantilever, SolverChoice::Auto, None, Some(3));
     assert!(small.solver.starts_with("dense"), "{}", small.solver);
+}
+
+/// `satqual modal` drops the shapes band by band as the sparse solver finishes them
+/// (`Shapes::Drop`); every other number of the result is the one with the shapes kept, bit
+/// for bit (the same arithmetic per mode), and the modes are numbered in order across the
+/// bands. The 20-satellite stack at 2 kHz runs in several bands.
+#[test]
+fn dropping_the_shapes_changes_no_other_number() {
+    let model = FeModel::from_scene(&stack_with(20).model).unwrap();
+    let solve = |shapes| {
+        let opts = ModalOptions {
+            fmax_hz: Some(2000.0),
+            modes: None,
+            solver: SolverChoice::Sparse,
+            stop_beyond_buckling: false,
+            shapes,
+        };
+        analyze(&model, &opts).unwrap().result
+    };
+    let (keep, drop) = (solve(Shapes::Keep), solve(Shapes::Drop));
+    assert!(keep.sparse.as_ref().unwrap().bands > 1);
+    assert_eq!(
+        serde_json::to_string(&keep).unwrap(),
+        serde_json::to_string(&drop).unwrap()
+    );
+    assert!(drop.modes.iter().all(|m| m.shape.is_empty()));
+    assert!(keep.modes.iter().all(|m| m.shape.len() == keep.dofs));
+    assert!(keep.modes.iter().enumerate().all(|(i, m)| m.index == i + 1));
 }

@@ -354,6 +354,7 @@ fn buckling_is_refused_before_the_modes_are_extracted() {
         modes: None,
         solver: Default::default(),
         stop_beyond_buckling: stop,
+        ..Default::default()
     };
     match analyze(&model, &opts(true)) {
         Err(satqual::Error::Modal(ModalError::BeyondBuckling { factor })) => {

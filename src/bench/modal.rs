@@ -200,6 +200,7 @@ fn bench_stack(
             modes: None,
             solver: SolverChoice::Sparse,
             stop_beyond_buckling: true,
+            ..Default::default()
         },
     ) {
         Ok(sys) => sys,
@@ -243,6 +244,7 @@ fn bench_stack(
                 modes: None,
                 solver: SolverChoice::Dense,
                 stop_beyond_buckling: false,
+                ..Default::default()
             },
         )?;
         Some(t0.elapsed().as_secs_f64())
@@ -637,6 +639,7 @@ fn crossover() -> Result<Vec<CrossRow>, Error> {
                     modes: Some(modes),
                     solver: *solver,
                     stop_beyond_buckling: false,
+                    ..Default::default()
                 },
             )?;
             t[i] = t0.elapsed().as_secs_f64();

@@ -74,6 +74,7 @@ fn bench_tower(
         modes: Some(MODES),
         solver: SolverChoice::Auto,
         stop_beyond_buckling: false,
+        ..Default::default()
     };
     let sys = analyze(&model, &opts)?;
     let ours: Vec<f64> = sys.result.modes.iter().map(|m| m.frequency_hz).collect();

@@ -55,6 +55,7 @@ fn options(fmax_hz: Option<f64>, solver: SolverChoice) -> ModalOptions {
         modes: None,
         solver,
         stop_beyond_buckling: false,
+        ..Default::default()
     }
 }
 

@@ -57,7 +57,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let scene = satqual::spec::Scene::load(&args.scene)?;
     // A 20 000-DOF stack takes a minute: say what runs (silent off a terminal or piped).
     let progress = super::progress::Progress::start(false, args.json, "modal solve");
-    let solved = satqual::pipeline::modal_with_solver(
+    let solved = satqual::pipeline::modal_summary(
         &scene,
         args.fmax,
         args.modes,

@@ -67,6 +67,8 @@ pub struct ModalOptions {
     /// [`ModalError::BeyondBuckling`], instead of extracting the modes of an unstable
     /// structure first (the open-bore 120-satellite stack spent ~20 s on 5476 of them).
     pub stop_beyond_buckling: bool,
+    /// Keep the mode shapes, or only what the modes sum up.
+    pub shapes: Shapes,
 }
 
 /// Six rigid-body directions, in the order x, y, z, rx, ry, rz.
@@ -509,9 +511,23 @@ fn sparse_modes(
     opts: &ModalOptions,
     prestress: Option<PrestressSummary>,
 ) -> Result<ModalResult, crate::Error> {
-    let kc = sparse::SymCsc::from_triplets(red.n_red, k);
-    let mc = sparse::SymCsc::from_triplets(red.n_red, m);
-    let (mut pairs, mut stats) = sparse::eigen(&kc, &mc, opts.fmax_hz, opts.modes)
+    let n = red.n_red;
+    let kc = sparse::SymCsc::from_triplets(n, k);
+    let mc = sparse::SymCsc::from_triplets(n, m);
+    let basis = ModeBasis::new(model, red, m_full, m);
+    // Each band's modes are checked, polished and measured on the band's thread as soon as
+    // it is solved: repeated modes never straddle a band cut (cuts sit in gaps of the
+    // spectrum), and no more than the bands in flight hold their eigenvectors when the
+    // shapes are dropped.
+    let finish = |band: sparse::FinishedBand, st: &mut sparse::SparseStats| {
+        let sparse::FinishedBand { offset, mut pairs } = band;
+        // The sparse eigenvalues are Rayleigh quotients: no shift enters their rounding.
+        let mut checked = pair_checks(n, (k, m), &pairs, 0.0);
+        polish_unconverged(n, (k, m), (&kc, &mc), &mut pairs, &mut checked, st)?;
+        set_zero_modes(&checked, &mut pairs);
+        Ok((checked, basis.modes(pairs, offset, opts.shapes)))
+    };
+    let (bands, mut stats) = sparse::eigen_by_band(&kc, &mc, opts.fmax_hz, opts.modes, &finish)
         .map_err(|e| sparse_err(model, red, e, true))?;
     let two_pi = 2.0 * std::f64::consts::PI;
     let label = format!(
@@ -519,18 +535,27 @@ fn sparse_modes(
         stats.sturm_count,
         stats.sturm_sigma.max(0.0).sqrt() / two_pi
     );
-    // The sparse eigenvalues are Rayleigh quotients: no shift enters their rounding.
-    let mut checked = pair_checks(red.n_red, (k, m), &pairs, 0.0);
-    let (n, kcs, mcs) = (red.n_red, &kc, &mc);
-    polish_unconverged(n, (k, m), (kcs, mcs), &mut pairs, &mut checked, &mut stats)
-        .map_err(|e| sparse_err(model, red, e, true))?;
-    let (rigid, worst) = check_pairs(model, checked, &mut pairs, past_buckling(&prestress))?;
-    let mut result = modal_result(model, red, m_full, m, pairs, &label, prestress);
+    let (checked, modes): (Vec<_>, Vec<_>) = bands.into_iter().unzip();
+    let checked: Vec<checks::PairCheck> = checked.into_iter().flatten().collect();
+    let mut modes: Vec<Mode> = modes.into_iter().flatten().collect();
+    let lambdas = modes.iter_mut().map(|md| &mut md.eigenvalue);
+    let (rigid, worst) = check_pairs(model, checked, lambdas, past_buckling(&prestress))?;
+    let mut result = basis.result(red, modes, &label, prestress);
     let (max_ratio, at) = flag_solution(model, red, &mut result, rigid, &stats.pivot_ratio, worst);
     stats.max_ratio = max_ratio;
     stats.max_ratio_at = checks::dof_name(model, red, at);
     result.sparse = Some(stats);
     Ok(result)
+}
+
+/// A round-off zero becomes exactly 0, before the modes are aligned: the rigid-body modes
+/// then form one cluster and get aligned with the axes.
+fn set_zero_modes(checked: &[checks::PairCheck], pairs: &mut [(f64, Vec<f64>)]) {
+    for ((lambda, _), c) in pairs.iter_mut().zip(checked) {
+        if c.zero {
+            *lambda = 0.0;
+        }
+    }
 }
 
 /// Whether the preload is past buckling (a caller that opted out of stopping): the negative
@@ -562,16 +587,16 @@ fn dense_modes(
         .collect();
     m_orthonormalize(m, &mut shapes);
     let checked = pair_checks(red.n_red, (k, m), &shapes, g.shift.abs());
-    let (rigid, worst) = check_pairs(model, checked, &mut shapes, past_buckling(&prestress))?;
-    let mut result = modal_result(
+    let (rigid, worst) = check_pairs(
         model,
-        red,
-        m_full,
-        m,
-        shapes,
-        "dense (faer self-adjoint eigen, shift-invert)",
-        prestress,
-    );
+        checked,
+        shapes.iter_mut().map(|p| &mut p.0),
+        past_buckling(&prestress),
+    )?;
+    let basis = ModeBasis::new(model, red, m_full, m);
+    let modes = basis.modes(shapes, 0, opts.shapes);
+    let solver = "dense (faer self-adjoint eigen, shift-invert)";
+    let mut result = basis.result(red, modes, solver, prestress);
     let (max_ratio, at) = flag_solution(model, red, &mut result, rigid, &g.pivot_ratio, worst);
     result.dense = Some(checks::DenseStats {
         shift: g.shift,
@@ -724,15 +749,15 @@ const POLISH_MAX_SHIFT: f64 = 1e-8;
 /// Checks every kept pair: a round-off zero becomes exactly 0 (so the rigid-body modes form
 /// one cluster and get aligned with the axes), a negative λ beyond round-off is an error.
 /// Returns the number of zeros and the largest backward error with its mode index.
-fn check_pairs(
+fn check_pairs<'a>(
     model: &FeModel,
     checked: Vec<checks::PairCheck>,
-    shapes: &mut [(f64, Vec<f64>)],
+    lambdas: impl Iterator<Item = &'a mut f64>,
     unstable: bool,
 ) -> Result<(usize, (f64, usize)), crate::Error> {
     let mut rigid = 0;
     let mut worst = (0.0f64, 0);
-    for (i, ((lambda, _), c)) in shapes.iter_mut().zip(checked).enumerate() {
+    for (i, (lambda, c)) in lambdas.zip(checked).enumerate() {
         if c.backward_error > worst.0 {
             worst = (c.backward_error, i);
         }
@@ -843,43 +868,85 @@ pub fn element_axial_forces(model: &FeModel, u: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Frequencies, sign convention and effective masses for a set of eigenpairs.
-pub fn modal_result(
-    model: &FeModel,
-    red: &Reduction,
-    m_full: &Triplets,
-    m_red: &Triplets,
-    pairs: Vec<(f64, Vec<f64>)>,
-    solver: &str,
-    prestress: Option<PrestressSummary>,
-) -> ModalResult {
-    let (total_mass, cm) = model.mass_properties(m_full);
-    let d_full = model.rigid_body_vectors(cm);
-    let (md, rb, rb_total) = rigid_body_masses(red, m_full, m_red, &d_full);
-    let pairs = align_degenerate(pairs, &md, &rb_total);
-    use rayon::prelude::*;
-    // Per mode and independent, so in parallel (2772 modes of 6200 DOFs on the 60-satellite
-    // stack); the collected order is the input order whatever the thread count.
-    let modes = pairs
-        .into_par_iter()
-        .enumerate()
-        .map(|(idx, (lambda, shape))| mode(idx, lambda, shape, &md, &rb_total))
-        .collect();
-    ModalResult {
-        total_mass_kg: total_mass,
-        center_of_mass_m: cm,
-        rigid_body_mass: Dir6::from_array(rb),
-        total_rigid_body_mass: Dir6::from_array(rb_total),
-        dofs: red.n_red,
-        solver: solver.to_string(),
-        modes,
-        rigid_body_modes: 0,
-        rigid_body_directions: Vec::new(),
-        free_rigid_motions: 6,
-        prestress,
-        dense: None,
-        warnings: Vec::new(),
-        sparse: None,
+/// Whether the modes keep their shapes (the response analyses read them) or only what they
+/// sum up (frequencies, participations): an n × modes block is 1.3 GB on the 200-satellite
+/// stack, which `satqual modal` never reads.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Shapes {
+    #[default]
+    Keep,
+    Drop,
+}
+
+/// The rigid-body quantities every mode is measured against (mass properties, M·D over the
+/// reduced DOFs, the rigid-body masses the effective masses sum to), and from them the
+/// modes' frequencies, sign convention and effective masses.
+struct ModeBasis {
+    total_mass: f64,
+    cm: [f64; 3],
+    md: Vec<[f64; 6]>,
+    rb: [f64; 6],
+    rb_total: [f64; 6],
+}
+
+impl ModeBasis {
+    fn new(model: &FeModel, red: &Reduction, m_full: &Triplets, m_red: &Triplets) -> Self {
+        let (total_mass, cm) = model.mass_properties(m_full);
+        let d_full = model.rigid_body_vectors(cm);
+        let (md, rb, rb_total) = rigid_body_masses(red, m_full, m_red, &d_full);
+        ModeBasis {
+            total_mass,
+            cm,
+            md,
+            rb,
+            rb_total,
+        }
+    }
+
+    /// The modes `offset..` of a run of pairs (λ ascending): repeated ones aligned, then
+    /// each signed and measured.
+    fn modes(&self, pairs: Vec<(f64, Vec<f64>)>, offset: usize, shapes: Shapes) -> Vec<Mode> {
+        let pairs = align_degenerate(pairs, &self.md, &self.rb_total);
+        use rayon::prelude::*;
+        // Per mode and independent, so in parallel (2772 modes of 6200 DOFs on the
+        // 60-satellite stack); the collected order is the input order whatever the thread
+        // count.
+        pairs
+            .into_par_iter()
+            .enumerate()
+            .map(|(idx, (lambda, shape))| {
+                let mut mode = mode(offset + idx, lambda, shape, &self.md, &self.rb_total);
+                if shapes == Shapes::Drop {
+                    mode.shape = Vec::new();
+                }
+                mode
+            })
+            .collect()
+    }
+
+    fn result(
+        &self,
+        red: &Reduction,
+        modes: Vec<Mode>,
+        solver: &str,
+        prestress: Option<PrestressSummary>,
+    ) -> ModalResult {
+        ModalResult {
+            total_mass_kg: self.total_mass,
+            center_of_mass_m: self.cm,
+            rigid_body_mass: Dir6::from_array(self.rb),
+            total_rigid_body_mass: Dir6::from_array(self.rb_total),
+            dofs: red.n_red,
+            solver: solver.to_string(),
+            modes,
+            rigid_body_modes: 0,
+            rigid_body_directions: Vec::new(),
+            free_rigid_motions: 6,
+            prestress,
+            dense: None,
+            warnings: Vec::new(),
+            sparse: None,
+        }
     }
 }
 

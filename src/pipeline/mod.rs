@@ -16,7 +16,7 @@ pub mod workflows;
 
 pub use provenance::fnv1a;
 pub use qualify::qualify;
-pub use workflows::modal::{fe_model, locate, modal, modal_with_solver};
+pub use workflows::modal::{fe_model, locate, modal, modal_summary, modal_with_solver};
 
 /// Progress reporting for long stages; the library never prints, the caller decides.
 pub trait Progress {

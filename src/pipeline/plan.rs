@@ -130,6 +130,7 @@ pub fn modal_options(scene: &Scene, overrides: &ModalOverrides) -> ModalOptions 
         modes,
         solver: overrides.solver.unwrap_or(spec.solver),
         stop_beyond_buckling: true,
+        ..Default::default()
     }
 }
 

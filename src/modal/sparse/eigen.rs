@@ -1,5 +1,6 @@
 //! The sparse eigen-solve: the Sturm count at the top of the band, a shift below the whole
-//! spectrum, the bands run in parallel, and the Rayleigh-quotient clean-up of every pair.
+//! spectrum, the bands run in parallel, each band's pairs cleaned up (Rayleigh quotients) and
+//! handed to the caller on the band's thread as soon as it is solved.
 
 use super::bands::{BAND_MODES, band_edges, run_band};
 use super::csc::SymCsc;
@@ -62,6 +63,35 @@ pub fn eigen(
     fmax_hz: Option<f64>,
     modes: Option<usize>,
 ) -> Result<(Vec<Pair>, SparseStats), SparseError> {
+    let keep_pairs = |band: FinishedBand, _: &mut SparseStats| Ok(band.pairs);
+    let (bands, stats) = eigen_by_band(k, m, fmax_hz, modes, &keep_pairs)?;
+    Ok((bands.into_iter().flatten().collect(), stats))
+}
+
+/// One band's eigenpairs once solved and cleaned up (Rayleigh quotients, λ ascending,
+/// φ mass-normalised): the modes `offset..offset + pairs.len()` of the whole result.
+pub struct FinishedBand {
+    pub offset: usize,
+    pub pairs: Vec<Pair>,
+}
+
+/// What a caller does with each band as soon as it is solved, on the band's own thread (the
+/// band's statistics passed along for any further factorizations).
+pub type BandFinish<'a, T> =
+    dyn Fn(FinishedBand, &mut SparseStats) -> Result<T, SparseError> + Sync + 'a;
+
+/// As [`eigen`], but each band's pairs go to `finish` on the band's thread as soon as the
+/// band is solved, and its results come back in mode order. A caller that reduces the
+/// pairs there (checks, effective masses) never holds every eigenvector at once, and that
+/// work overlaps the other bands' solves. The results are those of [`eigen`] followed by
+/// `finish` on consecutive runs of modes: the bands' ranges of λ do not overlap.
+pub fn eigen_by_band<T: Send>(
+    k: &SymCsc,
+    m: &SymCsc,
+    fmax_hz: Option<f64>,
+    modes: Option<usize>,
+    finish: &BandFinish<'_, T>,
+) -> Result<(Vec<T>, SparseStats), SparseError> {
     // The operator forms of faer products (`A * B`) follow the global setting: sequential,
     // as in the dense path, for thread-count-independent results.
     faer::set_global_parallelism(Par::Seq);
@@ -102,32 +132,77 @@ pub fn eigen(
         stats.sturm_count = 0;
         return Ok((Vec::new(), stats));
     }
+    // The counted top of the band: what no returned eigenvalue may reach.
+    let lmax = fmax_hz.map(|f| top.map(|t| t.0).unwrap_or((two_pi * f).powi(2)));
     let low_sigma = shift_below_spectrum(&pencil, top.map(|t| t.0), &mut stats)?;
     let bands = spectrum_bands(&pencil, low_sigma, top, want_modes, &mut stats)?;
-    let mut accepted: Vec<(f64, Vec<f64>)> = Vec::new();
-    for r in solve_bands(m, &pencil, &bands, target) {
-        let (pairs, st) = r?;
-        accepted.extend(pairs);
-        stats.add_band(&st);
+    let solved = solve_bands(m, &pencil, &bands, target, (k, lmax, finish));
+    let mut outs = Vec::with_capacity(solved.len());
+    for r in solved {
+        let out = r?;
+        stats.add_band(&out.stats);
+        outs.push(out);
     }
-    // The counted top of the band: what no returned eigenvalue may reach.
-    let lmax = |f: f64| top.map(|t| t.0).unwrap_or((two_pi * f).powi(2));
     // Each slice matched its own count; the whole band is checked once more here.
     if let (Some(f), Some(count)) = (fmax_hz, stats.fmax_count) {
-        let below = accepted.iter().filter(|p| p.0 < lmax(f)).count();
-        sturm_check(count, below, f)?;
+        sturm_check(count, outs.iter().map(|o| o.raw_below_top).sum(), f)?;
     }
-    accepted.sort_by(|a, b| a.0.total_cmp(&b.0));
-    accepted.truncate(target);
-    stats.max_backward_error = rayleigh_quotients(k, m, &mut accepted);
-    accepted.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if let (Some(f), Some(count)) = (fmax_hz, stats.fmax_count)
-        && accepted.len() == count
+    check_band_order(&outs)?;
+    let kept: usize = outs.iter().map(|o| o.lambdas.len()).sum();
+    stats.max_backward_error = outs
+        .iter()
+        .map(|o| o.max_backward_error)
+        .fold(0.0, f64::max);
+    if let (Some(f), Some(count), Some(l)) = (fmax_hz, stats.fmax_count, lmax)
+        && kept == count
     {
         // The quotients moved by round-off only; none may cross the counted top.
-        sturm_check(count, accepted.iter().filter(|p| p.0 < lmax(f)).count(), f)?;
+        let below = outs
+            .iter()
+            .flat_map(|o| &o.lambdas)
+            .filter(|&&x| x < l)
+            .count();
+        sturm_check(count, below, f)?;
     }
-    Ok((accepted, stats))
+    let results = outs
+        .into_iter()
+        .map(|o| o.finished)
+        .collect::<Result<_, _>>()?;
+    Ok((results, stats))
+}
+
+/// One band, solved and finished on its thread.
+struct BandOut<T> {
+    /// Its eigenvalues below the counted top before the clean-up (the completeness proof).
+    raw_below_top: usize,
+    /// Index of its first mode in the whole result.
+    offset: usize,
+    /// Its kept eigenvalues after the Rayleigh quotients, ascending.
+    lambdas: Vec<f64>,
+    max_backward_error: f64,
+    stats: SparseStats,
+    finished: Result<T, SparseError>,
+}
+
+/// The bands' modes must follow each other: each band starts where the previous one ended,
+/// and its eigenvalues lie above the previous band's (cuts sit in gaps of the spectrum far
+/// wider than the round-off the Rayleigh quotients move them by).
+fn check_band_order<T>(outs: &[BandOut<T>]) -> Result<(), SparseError> {
+    let mut next = 0;
+    let mut last = f64::NEG_INFINITY;
+    for o in outs {
+        let first = o.lambdas.first().copied().unwrap_or(f64::INFINITY);
+        if o.offset != next || first < last {
+            return Err(ModalError::NoConvergence(format!(
+                "the spectrum's bands do not join: a band starting at mode {} follows {next} modes, its lowest eigenvalue {first:e} rad²/s² against {last:e} below it",
+                o.offset + 1
+            ))
+            .into());
+        }
+        next += o.lambdas.len();
+        last = o.lambdas.last().copied().unwrap_or(last);
+    }
+    Ok(())
 }
 
 impl SparseStats {
@@ -205,29 +280,48 @@ fn spectrum_bands(
     Ok(bands)
 }
 
-type BandResult = Result<(Vec<Pair>, SparseStats), SparseError>;
+type BandResult<T> = Result<BandOut<T>, SparseError>;
 
-/// Runs every band, on as many threads as rayon has, and returns the results in band order.
-fn solve_bands(
+/// Runs every band, on as many threads as rayon has, each cleaned up (Rayleigh quotients,
+/// kept modes) and finished on its thread; returns the results in band order.
+fn solve_bands<T: Send>(
     m: &SymCsc,
     pencil: &Pencil,
     bands: &[(Edge, Option<Edge>)],
     target: usize,
-) -> Vec<BandResult> {
-    let run = |j: usize| -> BandResult {
+    (k, lmax, finish): (&SymCsc, Option<f64>, &BandFinish<'_, T>),
+) -> Vec<BandResult<T>> {
+    let run = |j: usize| -> BandResult<T> {
         let (bottom, upper) = bands[j];
-        let mut st = SparseStats::default();
+        let mut stats = SparseStats::default();
         let t = upper.map(|u| u.1).unwrap_or(target).min(target);
-        let pairs = run_band(
+        let mut pairs = run_band(
             m,
             pencil,
             bottom,
             upper,
             t,
-            &mut st,
+            &mut stats,
             1 + 1_000_000 * j as u64,
         )?;
-        Ok((pairs, st))
+        let raw_below_top = lmax.map_or(0, |l| pairs.iter().filter(|p| p.0 < l).count());
+        // The bands' ranges follow each other, so sorting and cutting each one is sorting
+        // and cutting the whole.
+        let offset = bottom.1;
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        pairs.truncate(target.saturating_sub(offset));
+        let max_backward_error = rayleigh_quotients(k, m, &mut pairs);
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let lambdas = pairs.iter().map(|p| p.0).collect();
+        let finished = finish(FinishedBand { offset, pairs }, &mut stats);
+        Ok(BandOut {
+            raw_below_top,
+            offset,
+            lambdas,
+            max_backward_error,
+            stats,
+            finished,
+        })
     };
     // Largest bands first from one shared queue, so that the band holding an unsplittable
     // cluster does not start last and leave the other threads idle. A band's result depends
@@ -241,7 +335,7 @@ fn solve_bands(
             .saturating_sub(bands[j].0.1)
     };
     order.sort_by_key(|&j| (std::cmp::Reverse(size(j)), j));
-    let slots: Vec<std::sync::Mutex<Option<BandResult>>> =
+    let slots: Vec<std::sync::Mutex<Option<BandResult<T>>>> =
         bands.iter().map(|_| std::sync::Mutex::new(None)).collect();
     let next = std::sync::atomic::AtomicUsize::new(0);
     rayon::scope(|sc| {

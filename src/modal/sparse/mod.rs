@@ -68,7 +68,7 @@ use crate::error::ModalError;
 pub use bands::BAND_MODES;
 pub use buckling::buckling_factor;
 pub use csc::SymCsc;
-pub use eigen::{SparseStats, eigen, sturm_check};
+pub use eigen::{FinishedBand, SparseStats, eigen, eigen_by_band, sturm_check};
 pub use factor::{Factor, Pencil, SINGULAR_PIVOT};
 pub use lanczos::{BLOCK, MAX_BASIS, REORTH_SKIP};
 pub use slice::{MAX_RESTARTS, SLICE_MODES};

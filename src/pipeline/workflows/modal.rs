@@ -4,7 +4,7 @@
 
 use crate::error::{Error, FemError, ModalError, SpecError};
 use crate::fem::FeModel;
-use crate::modal::{ModalOptions, ModalSystem};
+use crate::modal::{ModalOptions, ModalSystem, Shapes};
 use crate::pipeline::plan::{ModalOverrides, modal_options};
 use crate::spec::{Scene, SolverChoice};
 
@@ -30,6 +30,27 @@ pub fn modal_with_solver(
         solver,
     };
     run(scene, &modal_options(scene, &overrides))
+}
+
+/// [`modal_with_solver`] for a caller that reads what the modes sum up (frequencies,
+/// effective masses, prestress), never their shapes: `satqual modal`. The shapes are
+/// dropped band by band as the sparse solver finishes them.
+pub fn modal_summary(
+    scene: &Scene,
+    fmax_hz: Option<f64>,
+    modes: Option<usize>,
+    solver: Option<SolverChoice>,
+) -> Result<(FeModel, ModalSystem), Error> {
+    let overrides = ModalOverrides {
+        fmax_hz,
+        modes,
+        solver,
+    };
+    let opts = ModalOptions {
+        shapes: Shapes::Drop,
+        ..modal_options(scene, &overrides)
+    };
+    run(scene, &opts)
 }
 
 /// The modal analysis of a scene with resolved options. The buckling factor on the scene's
