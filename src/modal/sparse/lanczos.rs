@@ -24,6 +24,9 @@ use rand_chacha::ChaCha8Rng;
 pub const BLOCK: usize = 8;
 /// Largest Lanczos basis of one run.
 pub const MAX_BASIS: usize = 200;
+/// The recycled basis storage grows in steps of this many columns: the locked count changes
+/// from slice to slice, and every reallocation zeroes n × (k + 200) values.
+const BASIS_HEADROOM: usize = 64;
 /// Second Gram–Schmidt coefficients below this fraction of ‖u‖_B mean the first pass already
 /// left u orthogonal to the basis at that level: far below the √ε ≈ 1e-8 at which a Lanczos
 /// basis starts to produce spurious copies of converged Ritz values.
@@ -75,7 +78,8 @@ impl Lanczos {
         let k = x.ncols();
         let mut v = match bufs.take() {
             Some(v) if v.nrows() == n && v.ncols() >= k + max_basis => v,
-            _ => Mat::zeros(n, k + max_basis),
+            // Rounded up, so that a few more locked vectors in the next slice still fit.
+            _ => Mat::zeros(n, (k + max_basis).next_multiple_of(BASIS_HEADROOM)),
         };
         v.as_mut().subcols_mut(0, k).copy_from(x);
         Lanczos {
