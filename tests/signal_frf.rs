@@ -300,3 +300,49 @@ fn resonances_are_searched_only_where_the_input_excites_and_coheres() {
     );
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// A Q the line spacing cannot resolve is flagged. The SDOF of `write_band_limited_log` (fn 8 Hz,
+/// ζ 0.02: half-power band 2ζ·fn = 0.32 Hz, Q = 1/(2ζ) = 25) read with the default 0.0244 Hz
+/// lines (13 across the band) gives Q within 5 % of 25 (window broadening and noise) and no
+/// note; with 0.195 Hz lines (`--nperseg 1024`, 1.6 lines across the band) the note names
+/// the resonance and says the Q reads low, and it does (about 15).
+#[test]
+fn a_q_the_lines_cannot_resolve_is_flagged() {
+    let d = crate::common::temp_dir("sig-frf-q-lines");
+    let log = d.join("gvt.csv");
+    write_band_limited_log(&log, 11);
+    let sdof = |extra: &[&str]| {
+        let mut a = vec![
+            "frf",
+            log.to_str().unwrap(),
+            "--input",
+            "force",
+            "--output",
+            "response",
+            "--json",
+        ];
+        a.extend(extra);
+        let (code, out, err) = crate::common::run_text(&a, None);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let peak = v["peaks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| (p["frequency_hz"].as_f64().unwrap() - 8.0).abs() < 0.2)
+            .unwrap_or_else(|| panic!("no 8 Hz peak: {v}"))
+            .clone();
+        (peak["q"].as_f64().unwrap(), v["notes"].to_string())
+    };
+    let (q, notes) = sdof(&[]);
+    assert!((q - 25.0).abs() < 0.05 * 25.0, "Q {q}");
+    assert!(!notes.contains("half-power band"), "{notes}");
+    // At this resolution the peak's coherence also drops below the default screen (0.75:
+    // the bias of a band narrower than the window), which is not what is tested here.
+    let (q, notes) = sdof(&["--nperseg", "1024", "--min-coherence", "0"]);
+    assert!(q < 25.0, "Q {q}");
+    assert!(
+        notes.contains("resonance at 7.9") && notes.contains("the Q reads low"),
+        "{notes}"
+    );
+}

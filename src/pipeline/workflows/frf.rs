@@ -111,6 +111,7 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
             None,
         ),
     };
+    notes.extend(q_resolution_notes(&frf, &resonances, windows.is_some()));
     let resonances = match windows.as_ref().and_then(|w| w.exponential_tau_s) {
         Some(tau) => without_window_damping(resonances, tau),
         None => resonances,
@@ -128,6 +129,40 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
             .collect(),
         notes,
     })
+}
+
+/// A half-power band narrower than this many lines gives a Q that the line spacing and the
+/// window set as much as the damping does (Hann's main lobe alone is 1.44 lines wide at
+/// −3 dB, and the crossings are interpolated between lines), so such a Q is flagged.
+const MIN_HALF_POWER_LINES: f64 = 3.0;
+
+/// A note for every resonance whose half-power band (as measured, before any correction for
+/// an exponential window) spans fewer than [`MIN_HALF_POWER_LINES`] lines.
+fn q_resolution_notes(frf: &Frf, resonances: &[Resonance], impact: bool) -> Vec<String> {
+    let df = frf.fs / frf.nperseg as f64;
+    resonances
+        .iter()
+        .filter_map(|r| {
+            let q = r.q?;
+            let band = r.frequency_hz / q;
+            let lines = band / df;
+            if lines >= MIN_HALF_POWER_LINES {
+                return None;
+            }
+            let needed = (MIN_HALF_POWER_LINES * frf.fs / band).ceil();
+            let remedy = if impact {
+                format!("records of {:.2} s or longer resolve it", needed / frf.fs)
+            } else {
+                format!("--nperseg {needed:.0} or more resolves it")
+            };
+            Some(format!(
+                "resonance at {:.3} Hz: its half-power band ({band:.4} Hz) spans {lines:.1} line(s) of {df:.4} Hz, \
+                 so its Q is set by the resolution as much as by the damping (the window widens the band: \
+                 the Q reads low); {remedy}",
+                r.frequency_hz
+            ))
+        })
+        .collect()
 }
 
 /// The hits of every record when every record's input is a train of short pulses.
