@@ -121,6 +121,18 @@ pub fn find_peaks(freqs: &[f64], values: &[f64], opts: &PeakOptions) -> Vec<Peak
     found
 }
 
+/// A half-power band narrower than this many lines gives a Q (or ζ) that the line spacing and
+/// the window set as much as the damping does (Hann's main lobe alone is 1.44 lines wide at
+/// −3 dB, and the crossings are interpolated between lines): such a value is flagged.
+pub const MIN_HALF_POWER_LINES: f64 = 3.0;
+
+/// How many lines of spacing `df` a half-power band of `band_hz` spans, when fewer than
+/// [`MIN_HALF_POWER_LINES`] (the band is under-resolved); `None` otherwise.
+pub fn under_resolved_band(band_hz: f64, df: f64) -> Option<f64> {
+    let lines = band_hz / df;
+    (lines < MIN_HALF_POWER_LINES).then_some(lines)
+}
+
 /// Half-power (−3 dB) bandwidth around line `i` of the amplitude `mag`, for a peak of height
 /// `peak`: the two crossings of peak/√2, interpolated linearly. `None` when a side reaches a
 /// higher peak or the end of the data before crossing (Q is then not measurable).

@@ -131,24 +131,16 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
     })
 }
 
-/// A half-power band narrower than this many lines gives a Q that the line spacing and the
-/// window set as much as the damping does (Hann's main lobe alone is 1.44 lines wide at
-/// −3 dB, and the crossings are interpolated between lines), so such a Q is flagged.
-const MIN_HALF_POWER_LINES: f64 = 3.0;
-
 /// A note for every resonance whose half-power band (as measured, before any correction for
-/// an exponential window) spans fewer than [`MIN_HALF_POWER_LINES`] lines.
+/// an exponential window) is under-resolved (`signal::peaks::under_resolved_band`).
 fn q_resolution_notes(frf: &Frf, resonances: &[Resonance], impact: bool) -> Vec<String> {
+    use crate::signal::peaks::{MIN_HALF_POWER_LINES, under_resolved_band};
     let df = frf.fs / frf.nperseg as f64;
     resonances
         .iter()
         .filter_map(|r| {
-            let q = r.q?;
-            let band = r.frequency_hz / q;
-            let lines = band / df;
-            if lines >= MIN_HALF_POWER_LINES {
-                return None;
-            }
+            let band = r.frequency_hz / r.q?;
+            let lines = under_resolved_band(band, df)?;
             let needed = (MIN_HALF_POWER_LINES * frf.fs / band).ceil();
             let remedy = if impact {
                 format!("records of {:.2} s or longer resolve it", needed / frf.fs)

@@ -20,7 +20,7 @@ pub mod stabilization;
 pub use lsfd::FrfForm;
 pub use stabilization::{Criteria, DiagramPole, Stability};
 
-use super::peaks::{PeakOptions, find_peaks, half_power_band};
+use super::peaks::{PeakOptions, find_peaks, half_power_band, under_resolved_band};
 use crate::error::SignalError;
 use realfft::num_complex::Complex64;
 use serde::Serialize;
@@ -287,6 +287,15 @@ fn identify_peak(
         };
         // Half-power bandwidth: Q = f/Δf and ζ = 1/(2Q) = Δf/(2f) for light damping.
         let zeta = (hi - lo) / (2.0 * p.frequency_hz);
+        let df = freqs.get(1).map_or(f64::INFINITY, |f1| f1 - freqs[0]);
+        if let Some(lines) = under_resolved_band(hi - lo, df) {
+            notes.push(format!(
+                "peak at {:.3} Hz: its half-power band ({:.4} Hz) spans {lines:.1} line(s) of {df:.4} Hz, so its damping is set by \
+                 the resolution as much as by the structure (the window widens the band: ζ reads high); a longer segment resolves it",
+                p.frequency_hz,
+                hi - lo
+            ));
+        }
         let v: Vec<Complex64> = h.iter().map(|ho| ho[p.line]).collect();
         modes.push(mode_of(&set.channels, p.frequency_hz, zeta, &v));
     }
