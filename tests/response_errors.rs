@@ -136,3 +136,39 @@ fn cli_reports_bad_input_with_exit_2() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--axis must be x, y or z"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A `[damping] modes` entry names its mode's direction; when the model's numbering no longer
+/// matches (here the paper stack's axial entry moved to mode 21, an x/y mode), `sine` refuses
+/// the scene with exit 2, naming the key's line and the lowest mode of that direction (mode 22,
+/// the paper stack's first axial mode in `tests/golden/modal-paper-stack.json`).
+#[test]
+fn damping_given_to_a_renumbered_mode_is_refused() {
+    let text = std::fs::read_to_string("test-specs/paper-stack.toml").unwrap();
+    let entry = "{ mode = 22, zeta = 0.275264, direction = \"z\" }";
+    assert!(text.contains(entry));
+    let moved = text.replace(entry, "{ mode = 21, zeta = 0.275264, direction = \"z\" }");
+    let dir = crate::common::temp_dir("resp-damping-direction");
+    let p = dir.join("renumbered.toml");
+    std::fs::write(&p, &moved).unwrap();
+    let out = crate::common::satqual()
+        .args(["sine", p.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let line = line_of(&moved, "{ mode = 21");
+    assert!(
+        err.contains(&format!("renumbered.toml:{line}:"))
+            && err.contains("damping.modes[2].direction")
+            && err.contains("the lowest `z` mode is mode 22"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+    // An unknown direction is a scene error.
+    let bad = text.replace(entry, "{ mode = 22, zeta = 0.275264, direction = \"up\" }");
+    let e = scene_error(&bad, "", "");
+    assert!(
+        e.contains("damping.modes[2].direction") && e.contains("got `up`"),
+        "{e}"
+    );
+}

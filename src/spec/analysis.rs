@@ -41,7 +41,15 @@ pub struct DampingSpec {
 pub struct ModeDamping {
     pub mode: usize,
     pub zeta: f64,
+    /// The direction (x, y, z, rx, ry, rz) of the mode's largest effective-mass fraction, when
+    /// the ratio belongs to a mode family (the test's first axial mode, say): a model change
+    /// that renumbers the modes is then refused instead of damping another mode.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<String>,
 }
+
+/// The directions a mode's effective mass is measured in, in `Dir6` order.
+pub const MODE_DIRECTIONS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
 
 /// Default amplification when a scene asks for a response but gives no `[damping]`: Q = 10
 /// (ζ = 5 %), the customary preliminary value for bolted spacecraft structure (ECSS-E-HB-32-26A
@@ -421,6 +429,16 @@ fn validate_mode_damping(d: &DampingSpec, loc: &Locator) -> Result<(), SpecError
             ));
         }
         plausible::check(loc, &format!("{k}.zeta"), m.zeta, plausible::ZETA)?;
+        if let Some(d) = m
+            .direction
+            .as_deref()
+            .filter(|d| !MODE_DIRECTIONS.contains(d))
+        {
+            return Err(loc.err(
+                &format!("{k}.direction"),
+                format!("expected one of x, y, z, rx, ry, rz, got `{d}`"),
+            ));
+        }
     }
     Ok(())
 }

@@ -9,7 +9,7 @@ use crate::response::{
     self, Prepared, RandomAxis, RandomOptions, SceneResponse, SineAxis, SineOptions,
 };
 use crate::spec::Scene;
-use crate::spec::analysis::{DampingSpec, RandomSpec, SineSpec};
+use crate::spec::analysis::{DampingSpec, MODE_DIRECTIONS, RandomSpec, SineSpec};
 use crate::spec::environment::{Environments, RandomEnvironment, SineEnvironment};
 
 /// A response analysis run on its own (`satqual sine` / `satqual random`).
@@ -24,6 +24,7 @@ pub struct ResponseRun<A> {
 pub fn sine(scene: &Scene, plan: &AxesPlan<SineSpec>) -> Result<ResponseRun<SineAxis>, Error> {
     let (model, sys) = super::modal::run(scene, &default_modal(scene))?;
     refuse_unsupported(scene, &sys)?;
+    refuse_renumbered_damping(scene, &sys)?;
     let prep = Prepared::new(scene, &model, &sys)?;
     Ok(ResponseRun {
         axes: sine_axes(&prep, plan)?,
@@ -39,6 +40,7 @@ pub fn random(
 ) -> Result<ResponseRun<RandomAxis>, Error> {
     let (model, sys) = super::modal::run(scene, &default_modal(scene))?;
     refuse_unsupported(scene, &sys)?;
+    refuse_renumbered_damping(scene, &sys)?;
     let prep = Prepared::new(scene, &model, &sys)?;
     let (axes, environment) = random_axes(&prep, plan)?;
     Ok(ResponseRun {
@@ -57,6 +59,7 @@ pub fn scene_response(
     random: Option<&AxesPlan<RandomSpec>>,
 ) -> Result<SceneResponse, Error> {
     refuse_unsupported(scene, sys)?;
+    refuse_renumbered_damping(scene, sys)?;
     let prep = Prepared::new(scene, model, sys)?;
     let mut environments = Environments {
         sine: sine.map(|p| SineEnvironment::of(&p.spec)),
@@ -95,6 +98,51 @@ fn refuse_unsupported(scene: &Scene, sys: &ModalSystem) -> Result<(), Error> {
         r.rigid_body_directions.join(", ")
     );
     Err(scene.locator().err(key, msg).into())
+}
+
+/// A `[damping] modes` entry that names its mode's direction must find the mode numbered so
+/// with its largest effective-mass fraction in that direction: otherwise the model's modes
+/// were renumbered (a mesh or model change) and the ratio would land on another mode.
+fn refuse_renumbered_damping(scene: &Scene, sys: &ModalSystem) -> Result<(), Error> {
+    let Some(entries) = scene.file.damping.as_ref().and_then(|d| d.modes.as_ref()) else {
+        return Ok(());
+    };
+    let modes = &sys.result.modes;
+    for (i, e) in entries.iter().enumerate() {
+        let Some(want) = e.direction.as_deref() else {
+            continue;
+        };
+        let dominant = |m: &crate::modal::Mode| {
+            let f = m.effective_mass_fraction.to_array();
+            MODE_DIRECTIONS[(0..6).fold(0, |b, a| if f[a] > f[b] { a } else { b })]
+        };
+        let found = modes.get(e.mode - 1).map(|m| (dominant(m), m));
+        if found.is_some_and(|(d, _)| d == want) {
+            continue;
+        }
+        let first = modes.iter().find(|m| dominant(m) == want);
+        let msg = format!(
+            "mode {} is given as a `{want}` mode, but {}; the model's modes were renumbered: {}",
+            e.mode,
+            match found {
+                Some((d, m)) => format!(
+                    "its largest effective-mass fraction is in `{d}` ({:.3} Hz)",
+                    m.frequency_hz
+                ),
+                None => format!("the model has {} modes", modes.len()),
+            },
+            match first {
+                Some(m) => format!(
+                    "the lowest `{want}` mode is mode {} ({:.3} Hz) (`satqual modal` lists them)",
+                    m.index, m.frequency_hz
+                ),
+                None => format!("no mode moves mostly in `{want}` (`satqual modal` lists them)"),
+            }
+        );
+        let key = format!("damping.modes[{i}].direction");
+        return Err(scene.locator().err(&key, msg).into());
+    }
+    Ok(())
 }
 
 fn default_modal(scene: &Scene) -> ModalOptions {

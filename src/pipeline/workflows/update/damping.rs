@@ -91,9 +91,16 @@ fn with_modes(base: &[ModeDamping], peaks: &[Peak], zeta: &[f64]) -> Vec<ModeDam
         .filter(|m| !peaks.iter().any(|p| p.fe_mode == m.mode))
         .cloned()
         .collect();
-    modes.extend(peaks.iter().zip(zeta).map(|(p, &zeta)| ModeDamping {
-        mode: p.fe_mode,
-        zeta,
+    modes.extend(peaks.iter().zip(zeta).map(|(p, &zeta)| {
+        ModeDamping {
+            mode: p.fe_mode,
+            zeta,
+            // The scene's own entry for that mode said which family it belongs to.
+            direction: base
+                .iter()
+                .find(|m| m.mode == p.fe_mode)
+                .and_then(|m| m.direction.clone()),
+        }
     }));
     modes.sort_by_key(|m| m.mode);
     modes
