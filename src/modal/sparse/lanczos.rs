@@ -11,7 +11,7 @@
 
 use super::SparseError;
 use super::csc::SymCsc;
-use super::orthonormal::{chol_qr2, gram};
+use super::orthonormal::{CholQr, chol_qr2, gram};
 use crate::error::ModalError;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
@@ -244,12 +244,30 @@ impl Lanczos {
         b: &SymCsc,
         upto: usize,
     ) -> (Mat<f64>, Mat<f64>, Mat<f64>, bool) {
-        let p = u.ncols();
-        let n = self.n;
         let (bu_m, g0) = bu.unwrap_or_else(|| (b.mul(u.as_ref()), None));
-        if let Some((u, bu, r)) = chol_qr2(&u, &bu_m, g0) {
-            return (u, bu, r, false);
-        }
+        let (u, bu_m, done) = match chol_qr2(u, bu_m, g0) {
+            CholQr::Orthonormal { u, bu, r } => return (u, bu, r, false),
+            CholQr::Refused { u, bu, done } => (u, bu, done),
+        };
+        let (u, bu, r, exhausted) = self.gram_schmidt(u, bu_m, b, upto);
+        // U_in = U_done·R_done (the CholQR pass made, if any) and U_done = U·R.
+        let r = match done {
+            Some(r_done) => r * r_done,
+            None => r,
+        };
+        (u, bu, r, exhausted)
+    }
+
+    /// The column-by-column fallback of [`Self::normalize`] (modified Gram–Schmidt twice, a
+    /// vanishing column replaced by a random direction): returns (U, B·U, R, exhausted).
+    fn gram_schmidt(
+        &mut self,
+        u: Mat<f64>,
+        bu_m: Mat<f64>,
+        b: &SymCsc,
+        upto: usize,
+    ) -> (Mat<f64>, Mat<f64>, Mat<f64>, bool) {
+        let (n, p) = (self.n, u.ncols());
         let mut r = Mat::<f64>::zeros(p, p);
         let mut uc: Vec<Vec<f64>> = (0..p).map(|c| col_vec(&u, c)).collect();
         let mut bc: Vec<Vec<f64>> = (0..p).map(|c| col_vec(&bu_m, c)).collect();
@@ -478,6 +496,26 @@ mod tests {
         let pairs = lz.vectors(&s, &[top], &theta, 0.0);
         assert!((pairs[0].0 - 1.0).abs() < 1e-10);
         assert!((pairs[0].1[0].abs() - 1.0).abs() < 1e-10);
+    }
+
+    /// The fallback of the block normalisation: a block with a repeated column (CholQR2
+    /// refuses it) still comes out B-orthonormal (1e-12) with U_in = U·R (1e-12), the repeated
+    /// column replaced by a fresh direction with a zero column in R.
+    #[test]
+    fn a_rank_deficient_block_is_normalised_by_the_fallback() {
+        let n = 30;
+        let b = identity(n);
+        let empty = Mat::<f64>::zeros(n, 0);
+        let mut lz = Lanczos::new(n, 4, 24, empty.as_ref(), 7, &mut None);
+        let mut u0 = Mat::<f64>::from_fn(n, 4, |i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
+        for i in 0..n {
+            u0[(i, 2)] = u0[(i, 0)];
+        }
+        let (u, bu, r, exhausted) = lz.normalize(u0.clone(), None, &b, 0);
+        assert!(!exhausted);
+        assert!(max_diff(&(u.transpose() * &bu), &Mat::<f64>::identity(4, 4)) < 1e-12);
+        assert!(max_diff(&(&u * &r), &u0) < 1e-12);
+        assert_eq!(r[(2, 2)], 0.0);
     }
 
     /// Locked vectors are deflated: with e₀ locked the top Ritz value is 1/2 (λ₂ = 2).

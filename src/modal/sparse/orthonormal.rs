@@ -41,24 +41,38 @@ pub(super) fn m_orthonormalize(m: &SymCsc, mut x: Mat<f64>) -> Option<(Mat<f64>,
     Some((x, mx))
 }
 
+/// What CholQR2 made of a block (B·U carried along; U_in = U·R).
+pub(super) enum CholQr {
+    Orthonormal {
+        u: Mat<f64>,
+        bu: Mat<f64>,
+        r: Mat<f64>,
+    },
+    /// A pass refused the block: the block as it stood then, and the R of the pass made
+    /// before (`None` when the first pass refused it untouched).
+    Refused {
+        u: Mat<f64>,
+        bu: Mat<f64>,
+        done: Option<Mat<f64>>,
+    },
+}
+
 /// B-orthonormalisation of a block by Cholesky QR, twice (CholQR2: matrix–matrix work instead
-/// of the column-by-column Gram–Schmidt). `None` when the block is too close to rank
-/// deficient for it (a relative Cholesky pivot under 1e-10), and the caller falls back.
-pub(super) fn chol_qr2(
-    u: &Mat<f64>,
-    bu: &Mat<f64>,
-    g0: Option<Mat<f64>>,
-) -> Option<(Mat<f64>, Mat<f64>, Mat<f64>)> {
+/// of the column-by-column Gram–Schmidt), in place: returns (U, B·U, R) with U_in = U·R.
+/// Refused when the block is too close to rank deficient for it (a relative Cholesky pivot
+/// under 1e-10), and the caller falls back on what it gets back. The blocks are taken by value
+/// so that the Lanczos step does not copy them (two n × 8 copies per step); the second pass
+/// refuses only a block the first left far from orthonormal, which its own pivot test rules
+/// out short of NaN.
+pub(super) fn chol_qr2(mut u: Mat<f64>, mut bu: Mat<f64>, g0: Option<Mat<f64>>) -> CholQr {
     use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
     let p = u.ncols();
     // Blocks of up to 16 columns go through the SIMD kernels (in place, one pass per
     // product); a restart's wider block (up to 40) through faer.
     let small = p <= 16;
-    let mut u = u.clone();
-    let mut bu = bu.clone();
     let mut r = Mat::<f64>::identity(p, p);
     let mut given = g0;
-    for _ in 0..2 {
+    for pass in 0..2 {
         let g = match given.take() {
             Some(g) => g,
             None if small => gram(u.as_ref(), bu.as_ref()),
@@ -67,14 +81,13 @@ pub(super) fn chol_qr2(
                 Mat::<f64>::from_fn(p, p, |i, j| 0.5 * (g0[(i, j)] + g0[(j, i)]))
             }
         };
-        let l = g.llt(Side::Lower).ok()?.L().to_owned();
-        for i in 0..p {
-            // NaN fails this too.
-            let ok = l[(i, i)] * l[(i, i)] > 1e-10 * g[(i, i)];
-            if !ok {
-                return None;
-            }
-        }
+        let l = g.llt(Side::Lower).ok().map(|c| c.L().to_owned());
+        // NaN fails this too.
+        let ok = |l: &Mat<f64>| (0..p).all(|i| l[(i, i)] * l[(i, i)] > 1e-10 * g[(i, i)]);
+        let Some(l) = l.filter(ok) else {
+            let done = (pass > 0).then_some(r);
+            return CholQr::Refused { u, bu, done };
+        };
         // U ← U·L⁻ᵀ as one product with the small explicit inverse (p×p), rather than a
         // triangular solve on transposed n×p copies.
         let mut linv = Mat::<f64>::identity(p, p);
@@ -92,7 +105,7 @@ pub(super) fn chol_qr2(
         }
         r = l.transpose() * &r;
     }
-    Some((u, bu, r))
+    CholQr::Orthonormal { u, bu, r }
 }
 
 /// Xᵀ·Y for two n × p blocks (p ≤ 16), exactly symmetric (the upper triangle mirrored).
@@ -127,7 +140,9 @@ mod tests {
         for p in [6, 20] {
             let u0 = random(n, p, p as u64);
             let bu0 = b.mul(u0.as_ref());
-            let (u, bu, r) = chol_qr2(&u0, &bu0, None).expect("full rank");
+            let CholQr::Orthonormal { u, bu, r } = chol_qr2(u0.clone(), bu0.clone(), None) else {
+                panic!("full rank refused");
+            };
             let eye = Mat::<f64>::identity(p, p);
             assert!(max_diff(&(u.transpose() * &bu), &eye) < 1e-13);
             assert!(max_diff(&(&u * &r), &u0) < 1e-13);
@@ -137,6 +152,27 @@ mod tests {
                     assert_eq!(r[(i, j)], 0.0);
                 }
             }
+        }
+    }
+
+    /// A block with two equal columns is refused by the first pass and handed back untouched
+    /// (no pass made), for the caller's column-by-column fallback.
+    #[test]
+    fn cholesky_qr2_hands_back_a_rank_deficient_block_untouched() {
+        let n = 40;
+        let b = chain(n, 1.0);
+        let mut u0 = random(n, 6, 5);
+        for i in 0..n {
+            u0[(i, 3)] = u0[(i, 1)];
+        }
+        let bu0 = b.mul(u0.as_ref());
+        match chol_qr2(u0.clone(), bu0.clone(), None) {
+            CholQr::Refused { u, bu, done } => {
+                assert!(done.is_none());
+                assert_eq!(max_diff(&u, &u0), 0.0);
+                assert_eq!(max_diff(&bu, &bu0), 0.0);
+            }
+            CholQr::Orthonormal { .. } => panic!("a rank-deficient block was accepted"),
         }
     }
 
