@@ -138,7 +138,8 @@ fn cli_reports_bad_input_with_exit_2() {
 }
 
 /// A `[damping] modes` entry names its mode's direction; when the model's numbering no longer
-/// matches (here the paper stack's axial entry moved to mode 21, an x/y mode), `sine` refuses
+/// matches (here the paper stack's axial entry moved to mode 21, whose largest effective-mass
+/// fraction is in rx), `sine` refuses
 /// the scene with exit 2, naming the key's line and the lowest mode of that direction (mode 22,
 /// the paper stack's first axial mode in `tests/golden/modal-paper-stack.json`).
 #[test]
@@ -150,12 +151,8 @@ fn damping_given_to_a_renumbered_mode_is_refused() {
     let dir = crate::common::temp_dir("resp-damping-direction");
     let p = dir.join("renumbered.toml");
     std::fs::write(&p, &moved).unwrap();
-    let out = crate::common::satqual()
-        .args(["sine", p.to_str().unwrap(), "--json"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let (code, out, err) = crate::common::run_text(&["sine", p.to_str().unwrap(), "--json"], None);
+    assert_eq!(code, 2, "{err}");
     let line = line_of(&moved, "{ mode = 21");
     assert!(
         err.contains(&format!("renumbered.toml:{line}:"))
@@ -163,7 +160,7 @@ fn damping_given_to_a_renumbered_mode_is_refused() {
             && err.contains("the lowest `z` mode is mode 22"),
         "{err}"
     );
-    assert!(out.stdout.is_empty());
+    assert!(out.is_empty());
     // An unknown direction is a scene error.
     let bad = text.replace(entry, "{ mode = 22, zeta = 0.275264, direction = \"up\" }");
     let e = scene_error(&bad, "", "");

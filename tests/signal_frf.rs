@@ -229,29 +229,30 @@ fn write_band_limited_log(path: &std::path::Path, seed: u64) {
     std::fs::write(path, out).unwrap();
 }
 
+/// `satqual frf LOG --input force --output response --json EXTRA`, which must succeed: its
+/// JSON and its stderr.
+fn frf_force_to_response(log: &std::path::Path, extra: &[&str]) -> (serde_json::Value, String) {
+    let mut a = vec![
+        "frf",
+        log.to_str().unwrap(),
+        "--input",
+        "force",
+        "--output",
+        "response",
+        "--json",
+    ];
+    a.extend(extra);
+    let (code, out, err) = crate::common::run_text(&a, None);
+    assert_eq!(code, 0, "{err}");
+    (serde_json::from_str(&out).unwrap(), err)
+}
+
 #[test]
 fn resonances_are_searched_only_where_the_input_excites_and_coheres() {
     let d = crate::common::temp_dir("sig-frf-band");
     let log = d.join("gvt.csv");
     write_band_limited_log(&log, 7);
-    let frf = |extra: &[&str]| {
-        let mut a = vec![
-            "frf",
-            log.to_str().unwrap(),
-            "--input",
-            "force",
-            "--output",
-            "response",
-            "--json",
-        ];
-        a.extend(extra);
-        let (code, out, err) = crate::common::run_text(&a, None);
-        assert_eq!(code, 0, "{err}");
-        (
-            serde_json::from_str::<serde_json::Value>(&out).unwrap(),
-            err,
-        )
-    };
+    let frf = |extra: &[&str]| frf_force_to_response(&log, extra);
     let freqs = |v: &serde_json::Value, key: &str| -> Vec<f64> {
         v.pointer(key)
             .unwrap()
@@ -312,19 +313,7 @@ fn a_q_the_lines_cannot_resolve_is_flagged() {
     let log = d.join("gvt.csv");
     write_band_limited_log(&log, 11);
     let sdof = |extra: &[&str]| {
-        let mut a = vec![
-            "frf",
-            log.to_str().unwrap(),
-            "--input",
-            "force",
-            "--output",
-            "response",
-            "--json",
-        ];
-        a.extend(extra);
-        let (code, out, err) = crate::common::run_text(&a, None);
-        assert_eq!(code, 0, "{err}");
-        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let (v, _) = frf_force_to_response(&log, extra);
         let peak = v["peaks"]
             .as_array()
             .unwrap()

@@ -24,12 +24,7 @@ pub fn modal_with_solver(
     modes: Option<usize>,
     solver: Option<SolverChoice>,
 ) -> Result<(FeModel, ModalSystem), Error> {
-    let overrides = ModalOverrides {
-        fmax_hz,
-        modes,
-        solver,
-    };
-    run(scene, &modal_options(scene, &overrides))
+    run(scene, &overridden(scene, fmax_hz, modes, solver))
 }
 
 /// [`modal_with_solver`] for a caller that reads what the modes sum up (frequencies,
@@ -41,16 +36,26 @@ pub fn modal_summary(
     modes: Option<usize>,
     solver: Option<SolverChoice>,
 ) -> Result<(FeModel, ModalSystem), Error> {
+    let opts = ModalOptions {
+        shapes: Shapes::Drop,
+        ..overridden(scene, fmax_hz, modes, solver)
+    };
+    run(scene, &opts)
+}
+
+/// The scene's `[modal]` options with the command line's overrides.
+fn overridden(
+    scene: &Scene,
+    fmax_hz: Option<f64>,
+    modes: Option<usize>,
+    solver: Option<SolverChoice>,
+) -> ModalOptions {
     let overrides = ModalOverrides {
         fmax_hz,
         modes,
         solver,
     };
-    let opts = ModalOptions {
-        shapes: Shapes::Drop,
-        ..modal_options(scene, &overrides)
-    };
-    run(scene, &opts)
+    modal_options(scene, &overrides)
 }
 
 /// The modal analysis of a scene with resolved options. The buckling factor on the scene's
