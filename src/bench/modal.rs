@@ -475,17 +475,9 @@ fn cli_time(scene: &Path) -> Option<f64> {
 /// `None` when it does not run.
 pub(super) fn cli_time_with(scene: &Path, args: &[&str]) -> Option<f64> {
     let once = || -> Option<f64> {
-        let exe = std::env::current_exe().ok()?;
+        let mut command = modal_process(scene, args)?;
         let t0 = Instant::now();
-        let status = std::process::Command::new(exe)
-            .arg("modal")
-            .arg(scene)
-            .args(args)
-            .arg("--json")
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .status()
-            .ok()?;
+        let status = command.status().ok()?;
         let t = t0.elapsed().as_secs_f64();
         status.success().then_some(t)
     };
@@ -505,13 +497,7 @@ pub(super) fn cli_time_with(scene: &Path, args: &[&str]) -> Option<f64> {
 /// its VmHWM, read every 5 ms until it exits (a sampled high-water mark, so a lower bound by at
 /// most what the last 5 ms allocate). `None` when it does not run.
 fn cli_peak_mb(scene: &Path) -> Option<f64> {
-    let exe = std::env::current_exe().ok()?;
-    let mut child = std::process::Command::new(exe)
-        .arg("modal")
-        .arg(scene)
-        .args(["--fmax", &FMAX_HZ.to_string(), "--json"])
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
+    let mut child = modal_process(scene, &["--fmax", &FMAX_HZ.to_string()])?
         .spawn()
         .ok()?;
     let status_file = format!("/proc/{}/status", child.id());
@@ -528,6 +514,19 @@ fn cli_peak_mb(scene: &Path) -> Option<f64> {
             None => std::thread::sleep(std::time::Duration::from_millis(5)),
         }
     }
+}
+
+/// `satqual modal SCENE ARGS --json` by this executable, its output discarded.
+fn modal_process(scene: &Path, args: &[&str]) -> Option<std::process::Command> {
+    let mut command = std::process::Command::new(std::env::current_exe().ok()?);
+    command
+        .arg("modal")
+        .arg(scene)
+        .args(args)
+        .arg("--json")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null());
+    Some(command)
 }
 
 /// The VmHWM line of a /proc status file, kB.

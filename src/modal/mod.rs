@@ -119,6 +119,16 @@ pub struct Mode {
     pub eigenvalue: f64,
 }
 
+impl Mode {
+    /// The direction (x, y, z, rx, ry, rz) of the mode's largest effective-mass fraction;
+    /// `None` for a mode that moves no mass along any of them (a mechanism).
+    pub fn dominant_direction(&self) -> Option<&'static str> {
+        let frac = self.effective_mass_fraction.to_array();
+        let best = (0..6).fold(0, |b, a| if frac[a] > frac[b] { a } else { b });
+        (frac[best] > 0.0).then_some(crate::spec::analysis::MODE_DIRECTIONS[best])
+    }
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct MemberForce {
     pub name: String,
@@ -537,9 +547,9 @@ fn sparse_modes(
     );
     let (checked, modes): (Vec<_>, Vec<_>) = bands.into_iter().unzip();
     let checked: Vec<checks::PairCheck> = checked.into_iter().flatten().collect();
-    let mut modes: Vec<Mode> = modes.into_iter().flatten().collect();
-    let lambdas = modes.iter_mut().map(|md| &mut md.eigenvalue);
-    let (rigid, worst) = check_pairs(model, checked, lambdas, past_buckling(&prestress))?;
+    let modes: Vec<Mode> = modes.into_iter().flatten().collect();
+    let lambdas = modes.iter().map(|md| md.eigenvalue);
+    let (rigid, worst) = check_pairs(model, &checked, lambdas, past_buckling(&prestress))?;
     let mut result = basis.result(red, modes, &label, prestress);
     let (max_ratio, at) = flag_solution(model, red, &mut result, rigid, &stats.pivot_ratio, worst);
     stats.max_ratio = max_ratio;
@@ -587,12 +597,9 @@ fn dense_modes(
         .collect();
     m_orthonormalize(m, &mut shapes);
     let checked = pair_checks(red.n_red, (k, m), &shapes, g.shift.abs());
-    let (rigid, worst) = check_pairs(
-        model,
-        checked,
-        shapes.iter_mut().map(|p| &mut p.0),
-        past_buckling(&prestress),
-    )?;
+    set_zero_modes(&checked, &mut shapes);
+    let lambdas = shapes.iter().map(|p| p.0);
+    let (rigid, worst) = check_pairs(model, &checked, lambdas, past_buckling(&prestress))?;
     let basis = ModeBasis::new(model, red, m_full, m);
     let modes = basis.modes(shapes, 0, opts.shapes);
     let solver = "dense (faer self-adjoint eigen, shift-invert)";
@@ -746,13 +753,13 @@ fn polish_unconverged(
 /// second order, so anything larger means the block converged to other modes.
 const POLISH_MAX_SHIFT: f64 = 1e-8;
 
-/// Checks every kept pair: a round-off zero becomes exactly 0 (so the rigid-body modes form
-/// one cluster and get aligned with the axes), a negative λ beyond round-off is an error.
-/// Returns the number of zeros and the largest backward error with its mode index.
-fn check_pairs<'a>(
+/// Checks every kept pair (its zeros already set by [`set_zero_modes`]): a negative λ beyond
+/// round-off is an error. Returns the number of zeros and the largest backward error with
+/// its mode index.
+fn check_pairs(
     model: &FeModel,
-    checked: Vec<checks::PairCheck>,
-    lambdas: impl Iterator<Item = &'a mut f64>,
+    checked: &[checks::PairCheck],
+    lambdas: impl Iterator<Item = f64>,
     unstable: bool,
 ) -> Result<(usize, (f64, usize)), crate::Error> {
     let mut rigid = 0;
@@ -762,14 +769,13 @@ fn check_pairs<'a>(
             worst = (c.backward_error, i);
         }
         if c.zero {
-            *lambda = 0.0;
             rigid += 1;
-        } else if *lambda < 0.0 && !unstable {
-            let f = (-*lambda).sqrt() / (2.0 * std::f64::consts::PI);
+        } else if lambda < 0.0 && !unstable {
+            let f = (-lambda).sqrt() / (2.0 * std::f64::consts::PI);
             return Err(ModalError::Invalid(format!(
                 "mode {} has a negative eigenvalue ({:.6e} rad²/s², an imaginary frequency of {f:.4} Hz) beyond round-off: the stiffness of {} is not positive semi-definite",
                 i + 1,
-                *lambda,
+                lambda,
                 model_name(model)
             ))
             .into());
@@ -837,18 +843,11 @@ fn not_rigid_warning(model: &FeModel, result: &ModalResult, rigid: usize, free: 
 
 /// Flags the first `rigid` modes (λ = 0 sorts first) and names their directions.
 fn mark_rigid_body(result: &mut ModalResult, rigid: usize) {
-    const NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
     result.rigid_body_modes = rigid;
     for mode in result.modes.iter_mut().take(rigid) {
         mode.rigid_body = true;
         mode.frequency_hz = 0.0;
-        let frac = mode.effective_mass_fraction.to_array();
-        let best = (0..6).fold(0, |b, a| if frac[a] > frac[b] { a } else { b });
-        let name = if frac[best] > 0.0 {
-            NAMES[best]
-        } else {
-            "none"
-        };
+        let name = mode.dominant_direction().unwrap_or("none");
         result.rigid_body_directions.push(name.to_string());
     }
 }

@@ -282,6 +282,28 @@ fn spectrum_bands(
 
 type BandResult<T> = Result<BandOut<T>, SparseError>;
 
+/// A band's pairs (modes `offset..` of the whole) sorted, cut to the `target` modes, turned
+/// into Rayleigh quotients and sorted again. Returns how many lay below the counted top
+/// `lmax` before (the completeness proof) and the largest backward error. The bands' ranges
+/// follow each other, so sorting and cutting each one is sorting and cutting the whole.
+fn clean_up_band(
+    mut pairs: Vec<Pair>,
+    offset: usize,
+    target: usize,
+    (k, m, lmax): (&SymCsc, &SymCsc, Option<f64>),
+) -> (usize, f64, FinishedBand) {
+    let raw_below_top = lmax.map_or(0, |l| pairs.iter().filter(|p| p.0 < l).count());
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pairs.truncate(target.saturating_sub(offset));
+    let max_backward_error = rayleigh_quotients(k, m, &mut pairs);
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    (
+        raw_below_top,
+        max_backward_error,
+        FinishedBand { offset, pairs },
+    )
+}
+
 /// Runs every band, on as many threads as rayon has, each cleaned up (Rayleigh quotients,
 /// kept modes) and finished on its thread; returns the results in band order.
 fn solve_bands<T: Send>(
@@ -295,7 +317,7 @@ fn solve_bands<T: Send>(
         let (bottom, upper) = bands[j];
         let mut stats = SparseStats::default();
         let t = upper.map(|u| u.1).unwrap_or(target).min(target);
-        let mut pairs = run_band(
+        let pairs = run_band(
             m,
             pencil,
             bottom,
@@ -304,23 +326,16 @@ fn solve_bands<T: Send>(
             &mut stats,
             1 + 1_000_000 * j as u64,
         )?;
-        let raw_below_top = lmax.map_or(0, |l| pairs.iter().filter(|p| p.0 < l).count());
-        // The bands' ranges follow each other, so sorting and cutting each one is sorting
-        // and cutting the whole.
-        let offset = bottom.1;
-        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
-        pairs.truncate(target.saturating_sub(offset));
-        let max_backward_error = rayleigh_quotients(k, m, &mut pairs);
-        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let lambdas = pairs.iter().map(|p| p.0).collect();
-        let finished = finish(FinishedBand { offset, pairs }, &mut stats);
+        let (raw_below_top, max_backward_error, band) =
+            clean_up_band(pairs, bottom.1, target, (k, m, lmax));
+        let (offset, lambdas) = (band.offset, band.pairs.iter().map(|p| p.0).collect());
         Ok(BandOut {
             raw_below_top,
             offset,
             lambdas,
             max_backward_error,
+            finished: finish(band, &mut stats),
             stats,
-            finished,
         })
     };
     // Largest bands first from one shared queue, so that the band holding an unsplittable

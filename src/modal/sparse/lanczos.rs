@@ -91,18 +91,7 @@ impl Lanczos {
             _ => Mat::zeros(n, (k + max_basis).next_multiple_of(BASIS_HEADROOM)),
         };
         v.as_mut().subcols_mut(0, k).copy_from(x);
-        let mut sketch_rng = ChaCha8Rng::seed_from_u64(seed ^ SKETCH_SEED);
-        let mut sketch = Mat::zeros(n, SKETCH);
-        let g = gaussian(k, &mut sketch_rng);
-        matmul(
-            sketch.as_mut(),
-            Accum::Replace,
-            x,
-            g.as_ref(),
-            1.0,
-            Par::Seq,
-        );
-        Lanczos {
+        let mut lz = Lanczos {
             n,
             p,
             max_basis,
@@ -115,9 +104,11 @@ impl Lanczos {
             k,
             rng: ChaCha8Rng::seed_from_u64(seed),
             exhausted: false,
-            sketch,
-            sketch_rng,
-        }
+            sketch: Mat::zeros(n, SKETCH),
+            sketch_rng: ChaCha8Rng::seed_from_u64(seed ^ SKETCH_SEED),
+        };
+        lz.extend_sketch(0, k);
+        lz
     }
 
     pub(super) fn blocks(&self) -> usize {

@@ -37,10 +37,10 @@
 //! slice (8%); the second Gram–Schmidt update skipped when the first pass already left the
 //! block orthogonal to 1e-12 (92% of steps; 10%), that level estimated from an 8-column
 //! Gaussian sketch of the basis rather than a third product with it (5%); the interleaved solve
-//! and product kernels (15%), and their transposes done in one pass per row through the inverse permutation with
-//! per-thread scratch (13%); B·V not stored, so that two bands keep their bases in the shared
-//! L3 cache; the cluster's subspace orthonormalised by triangular solves (6%); a band's first
-//! shift moved inside the band (5% fewer Lanczos vectors).
+//! and product kernels (15%), and their transposes done in one pass per row through the
+//! inverse permutation with per-thread scratch (13%); B·V not stored, so that two bands keep
+//! their bases in the shared L3 cache; the cluster's subspace orthonormalised by triangular
+//! solves (6%); a band's first shift moved inside the band (5% fewer Lanczos vectors).
 //!
 //! # Why hand-written
 //! faer 0.24 offers sparse LDLᵀ but no sparse symmetric eigen-solver, and no maintained Rust

@@ -9,7 +9,7 @@ use crate::response::{
     self, Prepared, RandomAxis, RandomOptions, SceneResponse, SineAxis, SineOptions,
 };
 use crate::spec::Scene;
-use crate::spec::analysis::{DampingSpec, MODE_DIRECTIONS, RandomSpec, SineSpec};
+use crate::spec::analysis::{DampingSpec, RandomSpec, SineSpec};
 use crate::spec::environment::{Environments, RandomEnvironment, SineEnvironment};
 
 /// A response analysis run on its own (`satqual sine` / `satqual random`).
@@ -112,21 +112,18 @@ fn refuse_renumbered_damping(scene: &Scene, sys: &ModalSystem) -> Result<(), Err
         let Some(want) = e.direction.as_deref() else {
             continue;
         };
-        let dominant = |m: &crate::modal::Mode| {
-            let f = m.effective_mass_fraction.to_array();
-            MODE_DIRECTIONS[(0..6).fold(0, |b, a| if f[a] > f[b] { a } else { b })]
-        };
-        let found = modes.get(e.mode - 1).map(|m| (dominant(m), m));
-        if found.is_some_and(|(d, _)| d == want) {
+        let found = modes.get(e.mode - 1).map(|m| (m.dominant_direction(), m));
+        if found.is_some_and(|(d, _)| d == Some(want)) {
             continue;
         }
-        let first = modes.iter().find(|m| dominant(m) == want);
+        let first = modes.iter().find(|m| m.dominant_direction() == Some(want));
         let msg = format!(
             "mode {} is given as a `{want}` mode, but {}; the model's modes were renumbered: {}",
             e.mode,
             match found {
                 Some((d, m)) => format!(
-                    "its largest effective-mass fraction is in `{d}` ({:.3} Hz)",
+                    "its largest effective-mass fraction is in `{}` ({:.3} Hz)",
+                    d.unwrap_or("none"),
                     m.frequency_hz
                 ),
                 None => format!("the model has {} modes", modes.len()),
