@@ -239,13 +239,14 @@ fn bounds_line(s: &mut String, mc: &separation::MonteCarloResult) {
     };
     let _ = writeln!(
         s,
-        "  bounds at probability {} / confidence {} ({shown}): slowest exit {:.4} m/s, highest tip-off {} deg/s, smallest clearance {} m; {} runs with a wedged satellite",
+        "  bounds at probability {} / confidence {} ({shown}): slowest exit {:.4} m/s, highest tip-off {} deg/s, smallest clearance {} m; {} runs with a wedged satellite (per-run wedging probability below {:.3}% at that confidence)",
         mc.probability,
         mc.confidence,
         speed.value,
         value(&b.highest_tip_off_rate_deg_s),
         value(&b.min_clearance_m),
-        b.runs_with_wedging
+        b.runs_with_wedging,
+        100.0 * b.wedging_probability_bound
     );
 }
 

@@ -187,6 +187,9 @@ pub struct RunBounds {
     pub min_clearance_m: Option<TailBound>,
     /// Runs in which at least one satellite wedged in the bars (stalled or never left).
     pub runs_with_wedging: usize,
+    /// The upper bound of the per-run wedging probability at the demanded confidence
+    /// (Clopper–Pearson, [`order_stats::failure_probability_bound`]): what the runs show.
+    pub wedging_probability_bound: f64,
     /// Every wedged satellite: run, satellite, and its speed at exit (or at the end).
     pub wedged: Vec<Wedged>,
 }
@@ -394,14 +397,20 @@ fn run_bounds(demand: Demand, results: &[Realization], clearance: &[f64]) -> Run
         .iter()
         .filter_map(|r| worst(&r.tip_off_rate_deg_s, f64::max))
         .collect();
+    let runs_with_wedging = results
+        .iter()
+        .filter(|r| r.wedged.iter().any(|&w| w))
+        .count();
     RunBounds {
         slowest_exit_speed_m_s: TailBound::of(&slowest, Side::Lower, demand),
         highest_tip_off_rate_deg_s: TailBound::of(&fastest_spin, Side::Upper, demand),
         min_clearance_m: TailBound::of(clearance, Side::Lower, demand),
-        runs_with_wedging: results
-            .iter()
-            .filter(|r| r.wedged.iter().any(|&w| w))
-            .count(),
+        runs_with_wedging,
+        wedging_probability_bound: order_stats::failure_probability_bound(
+            runs_with_wedging,
+            results.len(),
+            demand.confidence,
+        ),
         wedged: results
             .iter()
             .flat_map(|r| {

@@ -41,6 +41,32 @@ pub fn demonstrated_probability(runs: usize, confidence: f64) -> f64 {
     (1.0 - confidence).powf(1.0 / runs as f64)
 }
 
+/// The one-sided upper confidence bound of a per-run probability from `failures` among
+/// `runs` (Clopper–Pearson 1934): the p with P(Binomial(n, p) ≤ x) = 1 − C, the largest
+/// probability still consistent with so few failures. With no failure it is 1 − (1 − C)^(1/n),
+/// the zero-failure bound of [`demonstrated_probability`]; otherwise the monotone CDF is
+/// bisected to the last bit. 1 for no runs (nothing is shown) or all runs failed.
+pub fn failure_probability_bound(failures: usize, runs: usize, confidence: f64) -> f64 {
+    if runs == 0 || failures >= runs || !in_open_unit(confidence) {
+        return 1.0;
+    }
+    if failures == 0 {
+        return 1.0 - demonstrated_probability(runs, confidence);
+    }
+    let alpha = 1.0 - confidence;
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    // 64 halvings take the bracket below one ulp of any probability in (0, 1).
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if binomial_cdf(runs, mid)[failures] > alpha {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
 /// The rank r (1-based, from the extreme) of the order statistic that bounds the
 /// `probability` quantile of the tail with at least `confidence` among `runs` samples: the
 /// largest r with P(Binomial(n, 1 − p) ≥ r) ≥ C. `None` when even the extreme sample does
@@ -155,6 +181,32 @@ mod tests {
         assert!((demonstrated_probability(59, 0.95) - 0.950_492_390).abs() < 1e-9);
         assert!((demonstrated_probability(60, 0.95) - 0.951_297_1).abs() < 1e-7);
         assert_eq!(demonstrated_probability(0, 0.95), 0.0);
+    }
+
+    /// Clopper–Pearson upper bounds at 95%, against scipy.stats.beta.ppf(0.95, x + 1, n − x)
+    /// (scipy 1.x, the beta-quantile form of the same bound): 1 of 59 → 0.0778979215188183,
+    /// 1 of 1109 → 0.004270391931803317, 3 of 1109 → 0.006976603086965753, 2 of 20 →
+    /// 0.28261852488586087; none of 1109 → 0.0026976462951569568 (= 1 − 0.05^(1/1109)).
+    /// Tolerance 1e-9 relative: the bisection ends at one ulp, the CDF's summed logarithms
+    /// carry a few 1e-13.
+    #[test]
+    fn failure_bounds_match_the_beta_quantiles() {
+        let cases = [
+            (1, 59, 0.0778979215188183),
+            (1, 1109, 0.004270391931803317),
+            (3, 1109, 0.006976603086965753),
+            (2, 20, 0.28261852488586087),
+            (0, 1109, 0.0026976462951569568),
+        ];
+        for (x, n, want) in cases {
+            let got = failure_probability_bound(x, n, 0.95);
+            assert!(
+                (got / want - 1.0).abs() < 1e-9,
+                "{x} of {n}: {got} vs {want}"
+            );
+        }
+        assert_eq!(failure_probability_bound(0, 0, 0.95), 1.0);
+        assert_eq!(failure_probability_bound(5, 5, 0.95), 1.0);
     }
 
     /// The median of 10 samples: the 95% interval is [x₍₂₎, x₍₉₎] with coverage
