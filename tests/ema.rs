@@ -181,6 +181,37 @@ fn ema_impact_logs_match_sdypy_lscf_pole_for_pole() {
     }
 }
 
+/// Without Welch flags `ema` detects the hammer input as `frf` does and uses the impact
+/// options (one force-windowed boxcar segment per hit; these records have decayed, so no
+/// exponential window). Default Welch segments on these 1 s records find no stable pole at
+/// all. Reference: the dominant H1 peaks of data/realdata/pyfrf-impact/SOURCE.md, each within
+/// 0.2% (the tolerance of the sdypy comparison above).
+#[test]
+fn ema_on_hammer_logs_uses_the_impact_options_by_default() {
+    let args: Vec<&str> = IMPACT_ARGS
+        .iter()
+        .copied()
+        .filter(|a| !a.starts_with("--nperseg") && !a.starts_with("--window"))
+        .collect();
+    let (code, out, err) = run_text(&args, None);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let w = &v["impact_windows"];
+    assert_eq!(w["segment_samples"], 25600, "{w}");
+    assert_eq!(w["force_window"], true);
+    assert!(w["exponential_tau_s"].is_null());
+    assert_eq!(v["window"], "boxcar");
+    let modes = v["modes"].as_array().unwrap();
+    for f in [900.0, 2640.0, 3669.0, 4128.0, 4392.0, 5969.0] {
+        assert!(
+            modes
+                .iter()
+                .any(|m| rel(m["frequency_hz"].as_f64().unwrap(), f) < 2e-3),
+            "no mode near {f} Hz: {modes:?}"
+        );
+    }
+}
+
 #[test]
 fn ema_impact_frequencies_match_sdypy_own_selection() {
     // Reference: the same file, `sdypy_selection` (sdypy's select_closest_poles seeded with our

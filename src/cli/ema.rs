@@ -115,7 +115,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         input: &args.input,
         outputs: &args.output,
         ingest,
-        welch: wopts.clone(),
+        welch: wopts,
+        welch_is_default: args.welch.all_default(),
         options: opts.clone(),
     })?;
     let (m, h) = (&run.model, &run.frfs[0]);
@@ -153,7 +154,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     p.human(&human.join("\n"));
     let sources = (h.fs, h.df, m.band_hz(), &m.modes);
     satqual::output_check::check_sources(&sources, "ema JSON output")?;
-    p.json(&result_json(&args, &opts, m, h, &wopts))?;
+    p.json(&result_json(&args, &opts, &run))?;
     Ok(Outcome::Pass)
 }
 
@@ -169,13 +170,8 @@ fn summary_line(args: &Args, m: &EmaModel, fs: f64, segments: usize) -> String {
     )
 }
 
-fn result_json(
-    args: &Args,
-    opts: &EmaOptions,
-    m: &EmaModel,
-    h: &satqual::signal::Frf,
-    w: &satqual::signal::WelchOptions,
-) -> serde_json::Value {
+fn result_json(args: &Args, opts: &EmaOptions, run: &workflows::ema::EmaRun) -> serde_json::Value {
+    let (m, h, w) = (&run.model, &run.frfs[0], &run.welch);
     let (lo, hi) = m.band_hz();
     let count = |s: Stability| m.diagram.iter().filter(|p| p.stability == s).count();
     let c = &opts.criteria;
@@ -187,6 +183,7 @@ fn result_json(
         "nperseg": h.nperseg,
         "window": w.window.name(),
         "segments": h.segments,
+        "impact_windows": run.impact_windows,
         "frequency_resolution_hz": h.df,
         "method": m.method,
         "frf_form": opts.form,

@@ -73,29 +73,19 @@ pub struct FrfRun {
 pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
     let logs = read_frf_logs(req.logs, req.input, req.output, &req.ingest)?;
     let mut notes = Vec::new();
-    let impact = impact_of(&logs);
-    match &impact {
-        Some(_) if req.welch_is_default => {}
-        Some(_) => notes.push(format!(
-            "`{}` looks like an impact (one short pulse per record), but Welch options were given: they are used as given; \
-             a window or segments shorter than the record weigh the pulse down (leave the Welch flags out for the impact options)",
-            req.input
-        )),
-        None => {}
-    }
-    let impact = impact.filter(|_| req.welch_is_default);
-    let (frf, welch, windows) = match &impact {
-        Some(hits) => {
-            let (frf, windows) = impact_frf(&logs, hits)?;
-            notes.push(impact_note(hits, req.input, &windows));
-            (frf, impact_welch(windows.segment_samples), Some(windows))
-        }
-        None => (
-            frf_of_logs(&logs, req.input, &req.welch)?,
-            req.welch.clone(),
-            None,
-        ),
-    };
+    let Estimate {
+        mut frfs,
+        welch,
+        hits: impact,
+        windows,
+    } = estimate(
+        std::slice::from_ref(&logs),
+        req.input,
+        &req.welch,
+        req.welch_is_default,
+        &mut notes,
+    )?;
+    let frf = frfs.remove(0);
     let f = frf.frequencies();
     let mut peaks = req.peaks.clone();
     if req.from_first_line || req.screen.is_some() {
@@ -129,6 +119,59 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
             .collect(),
         notes,
     })
+}
+
+/// H1 of one input to each output, and how it was estimated.
+pub struct Estimate {
+    /// One per output, in order.
+    pub frfs: Vec<Frf>,
+    /// The Welch options used (the impact options when an impact was detected).
+    pub welch: WelchOptions,
+    /// Every hit of every record when the input was detected as an impact.
+    pub hits: Option<Vec<Vec<ImpactPulse>>>,
+    /// The windows of the impact analysis (force, exponential), when it was one.
+    pub windows: Option<ImpactWindows>,
+}
+
+/// H1 of the input to each output (`outputs[k]`: every log read with the input and output
+/// k), Welch-averaged, or, when the input is a train of short pulses and `welch` holds the
+/// defaults, with the impact options (one force-windowed segment per hit, and one exponential
+/// window shared by every output so that all of them see the same added damping).
+pub fn estimate(
+    outputs: &[Vec<Log>],
+    input: &str,
+    welch: &WelchOptions,
+    welch_is_default: bool,
+    notes: &mut Vec<String>,
+) -> Result<Estimate, Error> {
+    let impact = outputs.first().and_then(|logs| impact_of(logs));
+    if impact.is_some() && !welch_is_default {
+        notes.push(format!(
+            "`{input}` looks like an impact (one short pulse per record), but Welch options were given: they are used as given; \
+             a window or segments shorter than the record weigh the pulse down (leave the Welch flags out for the impact options)"
+        ));
+    }
+    match impact.filter(|_| welch_is_default) {
+        Some(hits) => {
+            let (frfs, windows) = impact_frfs(outputs, &hits)?;
+            notes.push(impact_note(&hits, input, &windows));
+            Ok(Estimate {
+                frfs,
+                welch: impact_welch(windows.segment_samples),
+                hits: Some(hits),
+                windows: Some(windows),
+            })
+        }
+        None => Ok(Estimate {
+            frfs: outputs
+                .iter()
+                .map(|logs| frf_of_logs(logs, input, welch))
+                .collect::<Result<_, _>>()?,
+            welch: welch.clone(),
+            hits: None,
+            windows: None,
+        }),
+    }
 }
 
 /// A note for every resonance whose half-power band (as measured, before any correction for
@@ -169,13 +212,20 @@ fn impact_of(logs: &[Log]) -> Option<Vec<Vec<ImpactPulse>>> {
         .collect()
 }
 
-/// H1 averaged over every hit of every record, each hit its own force- and (if needed)
-/// exponentially windowed segment.
-fn impact_frf(logs: &[Log], hits: &[Vec<ImpactPulse>]) -> Result<(Frf, ImpactWindows), Error> {
-    let fs = logs.first().map_or(0.0, |l| l.info.fs_hz);
-    let hit_logs: Vec<HitLog> = logs
+/// H1 of each output averaged over every hit of every record, each hit its own force- and
+/// (if needed) exponentially windowed segment; the segment length and the exponential window
+/// are chosen over every output's records together.
+fn impact_frfs(
+    outputs: &[Vec<Log>],
+    hits: &[Vec<ImpactPulse>],
+) -> Result<(Vec<Frf>, ImpactWindows), Error> {
+    let fs = outputs
+        .first()
+        .and_then(|logs| logs.first())
+        .map_or(0.0, |l| l.info.fs_hz);
+    let hit_logs: Vec<HitLog> = outputs
         .iter()
-        .zip(hits)
+        .flat_map(|logs| logs.iter().zip(hits))
         .map(|(l, h)| HitLog {
             force: &l.data[0],
             response: &l.data[1],
@@ -183,13 +233,20 @@ fn impact_frf(logs: &[Log], hits: &[Vec<ImpactPulse>]) -> Result<(Frf, ImpactWin
         })
         .collect();
     let cut = hit_records(&hit_logs, fs);
-    let records: Vec<(&[f64], &[f64])> = cut
+    let per_output = cut.records.len() / outputs.len().max(1);
+    let options = impact_welch(cut.windows.segment_samples);
+    let frfs = cut
         .records
-        .iter()
-        .map(|(f, y)| (f.as_slice(), y.as_slice()))
-        .collect();
-    let frf = frf(&records, fs, &impact_welch(cut.windows.segment_samples))?;
-    Ok((frf, cut.windows))
+        .chunks(per_output.max(1))
+        .map(|chunk| {
+            let records: Vec<(&[f64], &[f64])> = chunk
+                .iter()
+                .map(|(f, y)| (f.as_slice(), y.as_slice()))
+                .collect();
+            frf(&records, fs, &options)
+        })
+        .collect::<Result<_, _>>()?;
+    Ok((frfs, cut.windows))
 }
 
 /// The resonances' Q with the exponential window's damping taken out; a Q the window alone
