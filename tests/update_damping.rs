@@ -67,7 +67,8 @@ fn a_single_dof_peak_gives_back_the_damping_that_made_it() {
         d.zeta
     );
     assert!(
-        u.updated_text.contains("{ mode = 1, zeta = 0.02 }"),
+        u.updated_text
+            .contains("{ mode = 1, zeta = 0.02, direction = \"x\" }"),
         "{}",
         u.updated_text
     );
@@ -169,9 +170,13 @@ fn correlate_writes_the_measured_damping_of_the_paired_modes() {
     }
     let scene = Scene::parse(&out, &written).unwrap();
     let modes = scene.file.damping.unwrap().modes.unwrap();
-    for (mode, zeta) in [(1, 0.03319), (2, 0.03505), (12, 0.2458)] {
+    // Each entry names its mode's family (the direction of its largest effective mass), so
+    // that a later model that renumbers its modes is refused rather than damping another one.
+    let families = [(1, 0.03319, "x"), (2, 0.03505, "y"), (12, 0.2458, "z")];
+    for (mode, zeta, direction) in families {
         let m = modes.iter().find(|m| m.mode == mode).expect("entry");
         assert_eq!(m.zeta, zeta, "mode {mode}");
+        assert_eq!(m.direction.as_deref(), Some(direction), "mode {mode}");
     }
     let (code, _, err) = crate::common::run_text(
         &[

@@ -99,9 +99,11 @@ fn write_damping(
     let entries: Vec<IdentifiedModeDamping> = (c.pairs.iter())
         .filter_map(|p| {
             let zeta = c.test_modes[p.test_mode - 1].damping_ratio?;
+            let fe = c.fe_modes.iter().find(|m| m.mode == p.fe_mode);
             Some(IdentifiedModeDamping {
                 mode: p.fe_mode,
                 zeta,
+                direction: fe.and_then(|m| m.family).map(str::to_string),
                 source: format!(
                     "measured: test mode {} ({:.4} Hz) from {}, paired by satqual correlate (MAC {:.3})",
                     p.test_mode, p.test_hz, c.test_source, p.mac

@@ -63,14 +63,18 @@ fn damping_table(doc: &mut DocumentMut) -> Result<&mut toml_edit::Table, String>
         .ok_or_else(|| "`damping` is not a table".into())
 }
 
-/// One mode's identified ratio: its 1-based number, ζ and a one-line note of its source.
+/// One mode's identified ratio: its 1-based number, ζ, the direction of its largest
+/// effective-mass fraction on the model it was identified on (so that a later model that
+/// renumbers its modes is refused rather than damping another mode), and a one-line note of
+/// its source.
 pub struct IdentifiedModeDamping {
     pub mode: usize,
     pub zeta: f64,
+    pub direction: Option<String>,
     pub source: String,
 }
 
-/// `text` with `[damping] modes = [{ mode, zeta }, …]` holding `entries` (each annotated)
+/// `text` with `[damping] modes = [{ mode, zeta, direction }, …]` holding `entries` (each annotated)
 /// in place of any entry of theirs; other entries, the base damping and every comment stay.
 pub fn with_mode_damping(text: &str, entries: &[IdentifiedModeDamping]) -> Result<String, String> {
     let mut doc: DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
@@ -91,6 +95,9 @@ pub fn with_mode_damping(text: &str, entries: &[IdentifiedModeDamping]) -> Resul
         let mut t = toml_edit::InlineTable::new();
         t.insert("mode", Value::from(e.mode as i64));
         t.insert("zeta", Value::from(round(e.zeta, 6)));
+        if let Some(d) = &e.direction {
+            t.insert("direction", Value::from(d.as_str()));
+        }
         push_annotated(&mut modes, Value::InlineTable(t), &e.source);
     }
     damping.insert("modes", Item::Value(Value::Array(modes)));

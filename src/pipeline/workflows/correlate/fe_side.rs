@@ -22,6 +22,10 @@ pub struct FeModeAtTest {
     pub shape: Vec<f64>,
     #[serde(skip)]
     pub axis: Option<usize>,
+    /// The direction (x … rz) of the mode's largest effective-mass fraction, which names
+    /// its family in `[damping] modes` (`Mode::dominant_direction`).
+    #[serde(skip)]
+    pub family: Option<&'static str>,
 }
 
 /// Rows of the reduced-DOF map that give each test point's motion along its direction.
@@ -71,6 +75,7 @@ pub fn fe_modes(sys: &ModalSystem, rows: &[Vec<(usize, f64)>]) -> Vec<FeModeAtTe
                 direction: axis.map(|a| ["x", "y", "z"][a]),
                 shape,
                 axis,
+                family: m.dominant_direction(),
             }
         })
         .collect()

@@ -29,6 +29,10 @@ pub struct IdentifiedDamping {
     /// The mode's ratio before (the scene's damping) and identified.
     pub zeta_start: f64,
     pub zeta: f64,
+    /// The family the entry names (`[damping] modes` `direction`): the scene's own entry's,
+    /// else the updated model's mode's largest effective-mass direction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub direction: Option<String>,
 }
 
 /// One measured peak: the test mode, its paired FE mode, where and how much.
@@ -63,14 +67,23 @@ pub fn identify(
         .collect();
     let mut zeta = start.clone();
     let base_modes = prep.damping.modes.clone().unwrap_or_default();
+    let directions: Vec<Option<String>> = (peaks.iter())
+        .map(|p| {
+            let own = base_modes.iter().find(|m| m.mode == p.fe_mode);
+            own.and_then(|m| m.direction.clone()).or_else(|| {
+                let mode = &sys.result.modes[p.fe_mode - 1];
+                mode.dominant_direction().map(str::to_string)
+            })
+        })
+        .collect();
     for _ in 0..MAX_STEPS {
-        prep.damping.modes = Some(with_modes(&base_modes, &peaks, &zeta));
+        prep.damping.modes = Some(with_modes(&base_modes, &peaks, &zeta, &directions));
         let predicted = predicted_peaks(&prep, &sine_spec, &peaks)?;
         let ratio: Vec<f64> = (predicted.iter().zip(&peaks))
             .map(|(g, p)| g / p.measured_g)
             .collect();
         if ratio.iter().all(|r| (r - 1.0).abs() < PEAK_TOL) {
-            return Ok(results(&peaks, &predicted, &start, &zeta));
+            return Ok(results(&peaks, &predicted, &start, &zeta, &directions));
         }
         for (z, r) in zeta.iter_mut().zip(&ratio) {
             *z = (*z * r).clamp(5e-5, 0.999);
@@ -86,22 +99,23 @@ pub fn identify(
 }
 
 /// The scene's per-mode entries with the identified ones in place of theirs.
-fn with_modes(base: &[ModeDamping], peaks: &[Peak], zeta: &[f64]) -> Vec<ModeDamping> {
+fn with_modes(
+    base: &[ModeDamping],
+    peaks: &[Peak],
+    zeta: &[f64],
+    directions: &[Option<String>],
+) -> Vec<ModeDamping> {
     let mut modes: Vec<ModeDamping> = (base.iter())
         .filter(|m| !peaks.iter().any(|p| p.fe_mode == m.mode))
         .cloned()
         .collect();
-    modes.extend(peaks.iter().zip(zeta).map(|(p, &zeta)| {
-        ModeDamping {
+    modes.extend(
+        (peaks.iter().zip(zeta).zip(directions)).map(|((p, &zeta), direction)| ModeDamping {
             mode: p.fe_mode,
             zeta,
-            // The scene's own entry for that mode said which family it belongs to.
-            direction: base
-                .iter()
-                .find(|m| m.mode == p.fe_mode)
-                .and_then(|m| m.direction.clone()),
-        }
-    }));
+            direction: direction.clone(),
+        }),
+    );
     modes.sort_by_key(|m| m.mode);
     modes
 }
@@ -176,6 +190,7 @@ fn results(
     predicted: &[f64],
     start: &[f64],
     zeta: &[f64],
+    directions: &[Option<String>],
 ) -> Vec<IdentifiedDamping> {
     (0..peaks.len())
         .map(|i| IdentifiedDamping {
@@ -186,6 +201,7 @@ fn results(
             predicted_g: predicted[i],
             zeta_start: start[i],
             zeta: zeta[i],
+            direction: directions[i].clone(),
         })
         .collect()
 }

@@ -85,6 +85,7 @@ fn with_identified_damping(
         .map(|d| IdentifiedModeDamping {
             mode: d.fe_mode,
             zeta: d.zeta,
+            direction: d.direction.clone(),
             source: format!(
                 "identified by satqual update: test mode {} peak {} g at `{}` reproduced (was ζ = {:.6})",
                 d.test_mode, d.measured_g, d.channel, d.zeta_start
