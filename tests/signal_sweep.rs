@@ -199,3 +199,49 @@ fn a_log_without_a_sweep_is_refused_with_exit_2() {
         );
     }
 }
+
+/// A Q the tracking cannot resolve is noted, one the tracking resolves is not. Reference: the
+/// SDOF (fn = 100 Hz) of `simulate`, noise-free. Slow: Q = 20 swept at 0.5 octave/min, the
+/// 5 Hz band spans 430 points and 36 block spans: no note, Q within 5%. Fast: Q = 100 (a 1 Hz
+/// band) swept 50 → 200 Hz in 10 s (13.9 Hz/s at fn): one 0.25 s block sweeps 3.5 Hz, so the
+/// Q reads 29 and the band 3.5 Hz; the note names the block and the --block-s that band
+/// would need (3.5/(3·14.2) = 0.083 s, an upper bound: the true band is 1 Hz).
+#[test]
+fn a_q_the_sweep_tracking_cannot_resolve_is_noted() {
+    use satqual::signal::sweep::q_resolution_note;
+    let fs = 2000.0;
+    let opts = SweepOptions::default();
+    let q_and_note = |q: f64, dur: f64| {
+        let s = simulate(fs, (50.0, 200.0, dur), 100.0, 1.0 / (2.0 * q), 0.0, 1);
+        let track = track_sweep(&s.drive, &[&s.accel], fs, &opts).unwrap();
+        let r = sweep_resonance(&track, 0).expect("a resonance");
+        (r.q.unwrap(), q_resolution_note(&track, &r, &opts))
+    };
+    let (q, note) = q_and_note(20.0, 240.0);
+    assert!(note.is_none(), "{note:?}");
+    assert!((q / 20.0 - 1.0).abs() < 0.05, "Q {q}");
+    let (q, note) = q_and_note(100.0, 10.0);
+    let note = note.expect("an under-resolved Q is noted");
+    eprintln!("fast sweep: Q {q:.2} against 100; {note}");
+    assert!(
+        note.contains("0.250 s block") && note.contains("--block-s 0.08"),
+        "{note}"
+    );
+    assert!((q / 100.0 - 1.0).abs() > 0.05, "Q {q}");
+    // The same Q = 100 swept slowly (0.58 Hz/s at fn) but tracked every 0.8 s: each 0.25 s
+    // block resolves the 1 Hz band, the grid (0.46 Hz) does not (Q reads 85); the note names
+    // --hop-s.
+    let sparse = SweepOptions {
+        hop_s: 0.8,
+        ..SweepOptions::default()
+    };
+    let s = simulate(fs, (50.0, 200.0, 240.0), 100.0, 0.005, 0.0, 1);
+    let track = track_sweep(&s.drive, &[&s.accel], fs, &sparse).unwrap();
+    let r = sweep_resonance(&track, 0).expect("a resonance");
+    let note = q_resolution_note(&track, &r, &sparse).expect("a coarse grid is noted");
+    eprintln!("sparse grid: Q {:.2}; {note}", r.q.unwrap());
+    assert!(
+        note.contains("track point(s)") && note.contains("--hop-s"),
+        "{note}"
+    );
+}

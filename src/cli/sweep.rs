@@ -93,6 +93,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
             })),
         }));
     }
+    human.extend(run.notes.iter().map(|n| format!("  note: {n}")));
     if let Some(dir) = &args.out {
         write_outputs(dir, &run, &args.control)?;
         human.push(format!("  wrote {}/sweep.csv, sweep.svg", dir.display()));
@@ -109,6 +110,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "frequency_max_hz": track.frequency_hz.last(),
         "responses": out,
         "ingest": run.ingest,
+        "notes": run.notes,
     }))?;
     Ok(Outcome::Pass)
 }

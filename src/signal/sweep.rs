@@ -296,3 +296,52 @@ pub fn sweep_resonance(track: &SweepTrack, r: usize) -> Option<Resonance> {
         prominence_db: None,
     })
 }
+
+/// Why the half-power Q of a tracked resonance is set by the tracking rather than by the
+/// damping, if it is: its half-power band spans fewer than
+/// [`super::peaks::MIN_HALF_POWER_LINES`] track points, or one block sweeps over more than
+/// that share of the band (the block averages the response across the peak: |H| and Q read
+/// low). Both are measured at the resonance from the track itself; `None` when resolved.
+pub fn q_resolution_note(
+    track: &SweepTrack,
+    res: &Resonance,
+    opts: &SweepOptions,
+) -> Option<String> {
+    use super::peaks::MIN_HALF_POWER_LINES;
+    let band = res.frequency_hz / res.q?;
+    let (f, t) = (&track.frequency_hz, &track.time_s);
+    let i = f
+        .partition_point(|&x| x < res.frequency_hz)
+        .clamp(1, f.len().checked_sub(2)?);
+    let spacing = (f[i + 1] - f[i - 1]).abs() / 2.0;
+    let rate = (f[i + 1] - f[i - 1]).abs() / (t[i + 1] - t[i - 1]);
+    let span = rate * opts.block_s;
+    let points = band / spacing;
+    let per_block = band / span;
+    let at = format!(
+        "resonance at {:.3} Hz: its half-power band ({band:.4} Hz)",
+        res.frequency_hz
+    );
+    // From the band as measured, which the averaging widens: a necessary bound, not a
+    // sufficient one.
+    let remedy = |what: &str, limit: f64| {
+        format!(
+            "it needs {what} {limit:.4} s or less (less still if the true band is narrower), or a slower sweep"
+        )
+    };
+    if per_block < MIN_HALF_POWER_LINES {
+        Some(format!(
+            "{at} is only {per_block:.1} times the {span:.4} Hz one {:.3} s block sweeps there ({rate:.3} Hz/s), \
+             so each block averages the response across the peak: |H| and Q read low and the peak shifts the sweep's way; {}",
+            opts.block_s,
+            remedy("--block-s", band / (MIN_HALF_POWER_LINES * rate))
+        ))
+    } else if points < MIN_HALF_POWER_LINES {
+        Some(format!(
+            "{at} spans {points:.1} track point(s) {spacing:.4} Hz apart, so its Q is set by the tracking grid as much as by the damping; {}",
+            remedy("--hop-s", band / (MIN_HALF_POWER_LINES * rate))
+        ))
+    } else {
+        None
+    }
+}

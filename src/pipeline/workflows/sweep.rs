@@ -2,6 +2,7 @@
 //! against the instantaneous drive frequency, and its dominant resonance.
 
 use crate::error::Error;
+use crate::signal::sweep::q_resolution_note;
 use crate::signal::{
     IngestOptions, Resonance, SweepOptions, SweepTrack, not_a_sweep, read_log, sweep_resonance,
     track_sweep,
@@ -27,6 +28,8 @@ pub struct SweepRun {
     pub resonances: Vec<Option<Resonance>>,
     /// The reader's decisions about the log.
     pub ingest: crate::signal::ingest::IngestRecord,
+    /// Resonances whose Q the tracking cannot resolve, one line each.
+    pub notes: Vec<String>,
 }
 
 pub fn run(req: &SweepRequest) -> Result<SweepRun, Error> {
@@ -61,10 +64,17 @@ pub fn run(req: &SweepRequest) -> Result<SweepRun, Error> {
             req.control
         )));
     }
-    let resonances = (0..names.len())
+    let resonances: Vec<Option<Resonance>> = (0..names.len())
         .map(|r| sweep_resonance(&track, r))
         .collect();
+    let notes = (names.iter().zip(&resonances))
+        .filter_map(|(name, r)| {
+            let note = q_resolution_note(&track, r.as_ref()?, &req.options)?;
+            Some(format!("`{name}`: {note}"))
+        })
+        .collect();
     Ok(SweepRun {
+        notes,
         fs_hz: log.info.fs_hz,
         responses: names,
         track,
