@@ -11,10 +11,17 @@ fn impact_dir() -> PathBuf {
 }
 
 fn frf_json(logs: &[&Path], input: &str, output: &str) -> Value {
-    let mut args: Vec<String> = vec!["frf".into()];
-    args.extend(logs.iter().map(|p| p.display().to_string()));
-    args.extend(["--input", input, "--output", output, "--json"].map(String::from));
-    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let logs: Vec<String> = logs.iter().map(|p| p.display().to_string()).collect();
+    let (input, output) = (format!("--input={input}"), format!("--output={output}"));
+    cli_json("frf", &logs, &[&input, &output])
+}
+
+/// `satqual CMD LOGS... ARGS... --json`, which must succeed, as JSON.
+fn cli_json(cmd: &str, logs: &[String], args: &[&str]) -> Value {
+    let mut argv: Vec<&str> = vec![cmd];
+    argv.extend(logs.iter().map(String::as_str));
+    argv.extend_from_slice(args);
+    argv.push("--json");
     let (code, out, err) = crate::common::run_text(&argv, None);
     assert_eq!(code, 0, "{err}");
     serde_json::from_str(&out).unwrap()
@@ -173,21 +180,18 @@ fn a_leaking_response_gets_an_exponential_window_and_its_damping_is_removed() {
 }
 
 fn ema_json(log: &Path, extra: &[&str]) -> Value {
-    let log = log.display().to_string();
-    let mut argv = vec!["ema", &log, "--input=force", "--output=acceleration"];
-    argv.extend_from_slice(&["--fmin=10", "--fmax=100", "--order-max=20", "--json"]);
-    argv.extend_from_slice(extra);
-    let (code, out, err) = crate::common::run_text(&argv, None);
-    assert_eq!(code, 0, "{err}");
-    serde_json::from_str(&out).unwrap()
+    let mut args = vec!["--input=force", "--output=acceleration"];
+    args.extend_from_slice(&["--fmin=10", "--fmax=100", "--order-max=20"]);
+    args.extend_from_slice(extra);
+    cli_json("ema", &[log.display().to_string()], &args)
 }
 
 /// `ema` estimates its FRFs as `frf` does: on the leaking 2 s record of the SDOF above the
 /// exponential window is applied, and the identified pole has the window's decay 1/τ taken
 /// out. Reference: ζ = 0.005, f_n = 40 Hz (analytic). The windowed record is an exact free
 /// decay of the shifted pole (force and response carry the same e^(−t/τ)), so LSCF finds it
-/// closely (measured: ζ 0.4% low, f_n 7e-5 Hz off): tolerance 2% on ζ and 0.01 Hz on f_n. Uncorrected, the window's 1/(2π·40·τ) would
-/// nearly double ζ. With the Welch flags given (Hann, 1 s segments), the window is not applied
+/// closely (measured: ζ 0.4% low, f_n 7e-5 Hz off): tolerance 2% on ζ and 0.01 Hz on f_n.
+/// Uncorrected, the window's 1/(2π·40·τ) would nearly double ζ. With the Welch flags given (Hann, 1 s segments), the window is not applied
 /// and a note says the input looks like an impact.
 #[test]
 fn ema_takes_the_exponential_window_out_of_the_identified_damping() {
