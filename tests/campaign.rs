@@ -261,3 +261,22 @@ fn slurm_campaign_merges_byte_identical() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// The Monte Carlo's progress counts every finished run once (1 to N, in completion order,
+/// from the worker threads) and reporting changes nothing in the result (reference: the same
+/// Monte Carlo without reporting, tolerance zero).
+#[test]
+fn a_monte_carlo_reports_each_finished_run_once() {
+    use satqual::separation::{Model, montecarlo};
+    let dir = temp_dir("campaign-progress");
+    let path = scene(&dir);
+    let model = Model::from_scene(&crate::common::load(&path)).unwrap();
+    let seen = std::sync::Mutex::new(Vec::new());
+    let done = |k: usize| seen.lock().unwrap().push(k);
+    let reported = montecarlo::monte_carlo_reporting(&model, 10, 7, &done).unwrap();
+    let mut seen = seen.into_inner().unwrap();
+    seen.sort_unstable();
+    assert_eq!(seen, (1..=10).collect::<Vec<_>>());
+    assert_eq!(reported, montecarlo::monte_carlo(&model, 10, 7).unwrap());
+    std::fs::remove_dir_all(&dir).ok();
+}

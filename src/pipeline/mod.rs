@@ -18,9 +18,12 @@ pub use provenance::fnv1a;
 pub use qualify::qualify;
 pub use workflows::modal::{fe_model, locate, modal, modal_summary, modal_with_solver};
 
-/// Progress reporting for long stages; the library never prints, the caller decides.
-pub trait Progress {
+/// Progress reporting for long stages; the library never prints, the caller decides. `Sync`,
+/// because parallel work (the Monte Carlo's runs) reports from its worker threads.
+pub trait Progress: Sync {
     fn stage(&self, _name: &str) {}
+    /// `done` of `total` items of the current stage are finished (in any order).
+    fn count(&self, _done: usize, _total: usize) {}
 }
 
 /// A no-op progress sink.

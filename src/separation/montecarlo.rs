@@ -321,9 +321,25 @@ pub fn realizations(
     seed: u64,
     range: std::ops::Range<u64>,
 ) -> Result<Vec<Realization>, SeparationError> {
+    realizations_reporting(model, seed, range, &|_| {})
+}
+
+/// [`realizations`], calling `done(k)` as the k-th run of the range finishes (from the worker
+/// that ran it, in completion order), for progress on long Monte Carlos.
+pub fn realizations_reporting(
+    model: &Model,
+    seed: u64,
+    range: std::ops::Range<u64>,
+    done: &(dyn Fn(usize) + Sync),
+) -> Result<Vec<Realization>, SeparationError> {
+    let finished = std::sync::atomic::AtomicUsize::new(0);
     range
         .into_par_iter()
-        .map(|i| realize(model, seed, i))
+        .map(|i| {
+            let r = realize(model, seed, i);
+            done(finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+            r
+        })
         .collect()
 }
 
@@ -333,7 +349,17 @@ pub fn monte_carlo(
     runs: usize,
     seed: u64,
 ) -> Result<MonteCarloResult, SeparationError> {
-    let results = realizations(model, seed, 0..runs as u64)?;
+    monte_carlo_reporting(model, runs, seed, &|_| {})
+}
+
+/// [`monte_carlo`], reporting each finished run as [`realizations_reporting`] does.
+pub fn monte_carlo_reporting(
+    model: &Model,
+    runs: usize,
+    seed: u64,
+    done: &(dyn Fn(usize) + Sync),
+) -> Result<MonteCarloResult, SeparationError> {
+    let results = realizations_reporting(model, seed, 0..runs as u64, done)?;
     Ok(aggregate(
         seed,
         model.n_satellites(),

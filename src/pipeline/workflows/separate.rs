@@ -55,7 +55,10 @@ pub fn run(
         || separation::run(&model, &opts),
         || {
             req.monte_carlo
-                .map(|mc| separation::monte_carlo(&model, mc.runs, mc.seed))
+                .map(|mc| {
+                    let done = |k: usize| progress.count(k, mc.runs);
+                    separation::montecarlo::monte_carlo_reporting(&model, mc.runs, mc.seed, &done)
+                })
                 .transpose()
         },
     );
