@@ -22,6 +22,9 @@ const WEDGING_MC: &str = "a satellite must not stall on the bars ([separation] s
                           ASSUMPTION) with the probability and confidence of \
                           [separation.dispersion]; per-run probability bounded by \
                           Clopper–Pearson";
+/// In the name of a Monte Carlo gate whose runs are too few for the demanded bound: the gate
+/// fails on the run count, whatever its value (the report's cause sentence reads it).
+pub const NOT_DEMONSTRATED: &str = "not demonstrated";
 const TIME_ON_BARS: &str = "ASSUMPTION: every satellite must leave the bars within the simulated time ([separation] max_time_s)";
 
 /// What the run-level gates need besides the results.
@@ -328,15 +331,10 @@ fn wedging_probability(mc: &MonteCarloResult) -> Verdict {
         Some(needed) if b.wedged.is_empty() && value > limit => {
             let limit_text = percent(1.0 - mc.probability);
             let name = format!(
-                "{what} ({seen}), below {limit_text} not demonstrated: need {needed} runs without a wedge [%]"
+                "{what} ({seen}), below {limit_text} {NOT_DEMONSTRATED}: need {needed} runs without a wedge [%]"
             );
             let v = design_margin(name, value, limit, WEDGING_MC);
-            let short = mc.runs as f64 / needed as f64 - 1.0;
-            Verdict {
-                pass: false,
-                margin: short.min(-1e-9),
-                ..v
-            }
+            short_of_runs(v, mc.runs, needed)
         }
         _ => design_margin(format!("{what} ({seen}) [%]"), value, limit, WEDGING_MC),
     }
@@ -358,7 +356,7 @@ fn bound_name(what: &str, t: &TailBound, unit: &str) -> String {
         )
     } else {
         format!(
-            "Monte Carlo {what}, {side} {p} bound at {c} confidence not demonstrated: {} runs \
+            "Monte Carlo {what}, {side} {p} bound at {c} confidence {NOT_DEMONSTRATED}: {} runs \
              support at most {} at {c} confidence; need {} (value: the {} bound) [{unit}]",
             t.runs,
             percent(t.demonstrated_probability),
@@ -374,7 +372,12 @@ fn demonstrated(v: Verdict, t: &TailBound) -> Verdict {
     if t.demonstrated {
         return v;
     }
-    let short = t.runs as f64 / t.runs_needed.max(1) as f64 - 1.0;
+    short_of_runs(v, t.runs, t.runs_needed)
+}
+
+/// `v` failed for want of runs: margin runs/needed − 1 (kept below zero).
+fn short_of_runs(v: Verdict, runs: usize, needed: usize) -> Verdict {
+    let short = runs as f64 / needed.max(1) as f64 - 1.0;
     Verdict {
         pass: false,
         margin: short.min(-1e-9),

@@ -14,6 +14,9 @@ pub fn sentence(g: &Verdict) -> String {
         );
     }
     let (v, l) = (quantity(g.value, &g.unit), quantity(g.limit, &g.unit));
+    if let Some(s) = short_of_runs(g, &v, &l) {
+        return s;
+    }
     let case = if g.load_case.is_empty() {
         String::new()
     } else {
@@ -42,6 +45,24 @@ pub fn sentence(g: &Verdict) -> String {
         ),
         _ => bound_sentence(g, &v, &l),
     }
+}
+
+/// A Monte Carlo gate that fails on its run count: the value is the bound the runs do show,
+/// which may well meet the limit, so the minimum-or-maximum reading of [`bound_sentence`]
+/// would misstate it.
+fn short_of_runs(g: &Verdict, v: &str, l: &str) -> Option<String> {
+    use crate::gates::separation::NOT_DEMONSTRATED;
+    let subject = subject(g);
+    let (what, why) = subject.split_once(&format!(" {NOT_DEMONSTRATED}"))?;
+    if g.pass {
+        return None;
+    }
+    let why = why.trim_start_matches(':').trim();
+    let why = why.split(" (value:").next().unwrap_or(why);
+    Some(format!(
+        "{} is {NOT_DEMONSTRATED} ({why}): the gate fails on the run count; the bound the runs do show is {v}, against a limit of {l}.",
+        capitalise(what.trim_end_matches(','))
+    ))
 }
 
 /// A minimum or maximum criterion in words. The margin's sign follows value − limit for a
@@ -99,6 +120,23 @@ mod tests {
             .in_group(Group::Separation)
             .with_unit("deg/s");
         assert!(sentence(&r).contains("stays within the maximum of 2.5000 deg/s"));
+    }
+
+    /// A bound the runs cannot demonstrate fails on the run count even where the bound they
+    /// do show meets its minimum: the sentence says so instead of "exceeds the maximum".
+    #[test]
+    fn a_bound_short_of_runs_reads_as_such() {
+        let name = "Monte Carlo slowest exit speed, lower 99.73% bound at 95% confidence not demonstrated: \
+                    59 runs support at most 95.05% at 95% confidence; need 1109 (value: the 95.05% bound) [m/s]";
+        let g = Verdict::gate(name, 0.2857, 0.2, 59.0 / 1109.0 - 1.0, false, "t")
+            .in_group(Group::Separation)
+            .with_unit("m/s");
+        assert_eq!(
+            sentence(&g),
+            "Monte Carlo slowest exit speed, lower 99.73% bound at 95% confidence is not demonstrated \
+             (59 runs support at most 95.05% at 95% confidence; need 1109): the gate fails on the run \
+             count; the bound the runs do show is 0.2857 m/s, against a limit of 0.2000 m/s."
+        );
     }
 
     #[test]
