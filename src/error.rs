@@ -6,7 +6,6 @@ use std::path::PathBuf;
 
 /// A scene file that cannot be used: where, which key, and why.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{}:{line}:{column}: {}{message}", file.display(), if key.is_empty() { String::new() } else { format!("key `{key}`: ") })]
 pub struct SpecError {
     pub file: PathBuf,
     /// 1-based line; 0 when the problem is not tied to one place in the file.
@@ -18,13 +17,29 @@ pub struct SpecError {
     pub message: String,
 }
 
+/// `file:line:column: key `k`: message`, or `file: message` when the problem is not tied to
+/// one place in the file (line 0).
+impl std::fmt::Display for SpecError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if self.line > 0 {
+            write!(f, ":{}:{}", self.line, self.column)?;
+        }
+        write!(f, ": ")?;
+        if !self.key.is_empty() {
+            write!(f, "key `{}`: ", self.key)?;
+        }
+        write!(f, "{}", self.message)
+    }
+}
+
 /// The finite-element model cannot be assembled or solved.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FemError {
     #[error("the model has no free degree of freedom")]
     NoFreeDofs,
     #[error(
-        "the mass matrix is singular on node {node} DOF {dof} ({dof_name}): it carries no mass and is not supported; add a support on it, a mass or inertia, or a beam that gives it mass"
+        "the mass matrix is singular on {node} DOF {dof} ({dof_name}): it carries no mass and is not supported; add a support on it, a mass or inertia, or a beam that gives it mass"
     )]
     MasslessDof {
         node: String,
@@ -32,7 +47,7 @@ pub enum FemError {
         dof_name: &'static str,
     },
     #[error(
-        "the stiffness matrix is singular: the model is unconstrained or a mechanism near node {node} DOF {dof} ({dof_name}); add supports for a static or buckling solve"
+        "the stiffness matrix is singular near {node} DOF {dof} ({dof_name}): the model is unconstrained or a mechanism there (add supports for a static or buckling solve), or a spring many decades stiffer than its neighbours has taken the digits of its pivot (model a rigid connection with [[rigid]])"
     )]
     Unconstrained {
         node: String,

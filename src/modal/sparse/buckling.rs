@@ -71,10 +71,12 @@ pub fn buckling_factor(k: &SymCsc, kg: &SymCsc) -> Result<Option<f64>, SparseErr
         ))
         .into());
     };
-    // A shift below λ₁: count 0 for K + σ·K_G.
+    // A shift below λ₁: count 0 for K + σ·K_G. The bracket can be loose by many orders of
+    // magnitude (a model with near-rigid joints leaves K ill-conditioned, and the short
+    // Lanczos's top Ritz value far below max μ), so the descent goes on down to 1e-15 of it.
     let mut sigma = 0.9 * upper;
     let mut shifted = None;
-    for _ in 0..40 {
+    while sigma > 1e-15 * upper {
         match pencil.factor(sigma) {
             Ok(f) if f.negative == 0 && f.min_relative_pivot() > 1e-13 => {
                 shifted = Some(f);
