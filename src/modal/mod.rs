@@ -733,10 +733,11 @@ fn polish_unconverged(
         // and the check flags them as before.
         let polished = sparse::polish::polish_cluster(p, kc, mc, pairs, start..end, stats);
         let again = pair_checks(n, (k, m), &pairs[start..end], 0.0);
+        let stayed = (old.iter().zip(&pairs[start..end]))
+            .all(|(o, p)| (p.0 - o.0).abs() <= POLISH_MAX_SHIFT * o.0);
         let kept = polished.is_ok()
-            && (old.iter().zip(&pairs[start..end]))
-                .all(|(o, p)| (p.0 - o.0).abs() <= POLISH_MAX_SHIFT * o.0)
-            && worst(&again) < worst(&checked[start..end]);
+            && worst(&again) < worst(&checked[start..end])
+            && (stayed || counted_whole(p, &old, &pairs[start..end], stats));
         if kept {
             for (c, a) in checked[start..end].iter_mut().zip(again) {
                 *c = a;
@@ -749,9 +750,30 @@ fn polish_unconverged(
     Ok(())
 }
 
-/// Largest relative move of an eigenvalue by polishing: its vector's improvement changes λ at
-/// second order, so anything larger means the block converged to other modes.
+/// Largest relative move of an eigenvalue by polishing taken without further proof: its
+/// vector's improvement changes λ at second order. A larger move (a cluster whose Lanczos
+/// values were off, as on a stack with near-rigid joints) is kept only when
+/// [`counted_whole`] proves the block is still the same eigenvalues.
 const POLISH_MAX_SHIFT: f64 = 1e-8;
+
+/// Whether Sturm counts put exactly as many eigenvalues in the span of the block's old and
+/// polished values (widened by [`CLUSTER_SPREAD`]) as the block holds: then the polished
+/// pairs, each with a residual at round-off, are those eigenvalues and no neighbour's.
+fn counted_whole(
+    pencil: &sparse::Pencil,
+    old: &[(f64, Vec<f64>)],
+    polished: &[(f64, Vec<f64>)],
+    stats: &mut sparse::SparseStats,
+) -> bool {
+    let values = || old.iter().chain(polished).map(|p| p.0);
+    let lo = values().fold(f64::INFINITY, f64::min) * (1.0 - CLUSTER_SPREAD);
+    let hi = values().fold(f64::NEG_INFINITY, f64::max) * (1.0 + CLUSTER_SPREAD);
+    stats.factorizations += 2;
+    match (pencil.factor(lo), pencil.factor(hi)) {
+        (Ok(a), Ok(b)) => b.negative.checked_sub(a.negative) == Some(old.len()),
+        _ => false,
+    }
+}
 
 /// Checks every kept pair (its zeros already set by [`set_zero_modes`]): a negative λ beyond
 /// round-off is an error. Returns the number of zeros and the largest backward error with
