@@ -220,16 +220,7 @@ fn a_preload_beyond_buckling_is_a_located_error_and_below_it_a_result() {
         )
     };
     let run = |p: f64| satqual::pipeline::modal(&parse(&loaded(p)), None, Some(4));
-    let factor = |p: f64| {
-        run(p)
-            .unwrap()
-            .1
-            .result
-            .prestress
-            .unwrap()
-            .buckling_factor
-            .unwrap()
-    };
+    let factor = |p: f64| buckling_factor_of(run(p));
     let p_cr = 1000.0 * factor(1000.0);
     assert!(rel(p_cr, PI * PI * EI / 4.0) < 1e-4, "{p_cr}");
     assert!(rel(factor(0.99 * p_cr), 1.0 / 0.99) < 1e-6);
@@ -424,16 +415,8 @@ fn near_rigid_stack_joints_keep_the_buckling_factor() {
             .unwrap();
         stack.replacen(line, &format!("{key} = {value}"), 1)
     };
-    let factor = |text: &str| {
-        satqual::pipeline::modal(&parse(text), Some(200.0), None)
-            .unwrap()
-            .1
-            .result
-            .prestress
-            .unwrap()
-            .buckling_factor
-            .unwrap()
-    };
+    let factor =
+        |text: &str| buckling_factor_of(satqual::pipeline::modal(&parse(text), Some(200.0), None));
     let (stiff, rigid) = (
         factor(&with("axial_stiffness_n_m", "1e12")),
         factor(&with("axial_stiffness_n_m", "1e15")),
@@ -484,4 +467,15 @@ fn near_rigid_stack_joints_keep_the_buckling_factor() {
         .expect_err("pivots at round-off are refused")
         .to_string();
     assert!(err.contains("a spring many decades stiffer"), "{err}");
+}
+
+/// The buckling factor of a modal run that must succeed and find one.
+fn buckling_factor_of<T>(run: Result<(T, satqual::modal::ModalSystem), satqual::Error>) -> f64 {
+    run.unwrap()
+        .1
+        .result
+        .prestress
+        .unwrap()
+        .buckling_factor
+        .unwrap()
 }
