@@ -699,7 +699,7 @@ const CLUSTER_SPREAD: f64 = 1e-6;
 /// Lanczos runs accept vectors on a residual estimate that can miss by the conditioning of the
 /// shift far from it. The cluster is the pairs within [`CLUSTER_SPREAD`] of the flagged one;
 /// a pair whose λ is itself that far off is taken with the pairs within the wider
-/// [`POLISH_WINDOWS`] in turn, until a polished block is kept ([`polish_block`]); `checked`
+/// [`POLISH_WINDOWS`] in turn, until a polished block is kept ([`Block::polish`]); `checked`
 /// follows the pairs.
 fn polish_unconverged(
     n: usize,
@@ -709,18 +709,25 @@ fn polish_unconverged(
     checked: &mut [checks::PairCheck],
     stats: &mut sparse::SparseStats,
 ) -> Result<(), sparse::SparseError> {
-    let mut pencil = None;
+    let flagged = |c: &checks::PairCheck, lambda: f64| {
+        lambda > 0.0 && !c.zero && c.backward_error > checks::MAX_BACKWARD_ERROR
+    };
+    if !(checked.iter().zip(pairs.iter())).any(|(c, p)| flagged(c, p.0)) {
+        return Ok(());
+    }
+    let pencil = sparse::Pencil::new(kc, Some(mc))?;
+    let block = Block {
+        pencil: &pencil,
+        csc: (kc, mc),
+        triplets: (k, m),
+        n,
+    };
     let mut i = 0;
     while i < pairs.len() {
-        let c = &checked[i];
-        if pairs[i].0 <= 0.0 || c.zero || c.backward_error <= checks::MAX_BACKWARD_ERROR {
+        if !flagged(&checked[i], pairs[i].0) {
             i += 1;
             continue;
         }
-        if pencil.is_none() {
-            pencil = Some(sparse::Pencil::new(kc, Some(mc))?);
-        }
-        let p = pencil.as_ref().expect("made above");
         let mut end = i + 1;
         for spread in POLISH_WINDOWS {
             let near = |j: usize| (pairs[j].0 - pairs[i].0).abs() <= spread * pairs[i].0;
@@ -730,12 +737,6 @@ fn polish_unconverged(
                 .last()
                 .unwrap_or(i)
                 + 1;
-            let block = Block {
-                pencil: p,
-                csc: (kc, mc),
-                triplets: (k, m),
-                n,
-            };
             if block.polish(pairs, checked, start..end, stats) {
                 break;
             }
@@ -777,11 +778,14 @@ impl Block<'_> {
         let old: Vec<(f64, Vec<f64>)> = pairs[range.clone()].to_vec();
         let polished =
             sparse::polish::polish_cluster(self.pencil, kc, mc, pairs, range.clone(), stats);
+        if polished.is_err() {
+            pairs[range].clone_from_slice(&old);
+            return false;
+        }
         let again = pair_checks(self.n, self.triplets, &pairs[range.clone()], 0.0);
         let stayed = (old.iter().zip(&pairs[range.clone()]))
             .all(|(o, p)| (p.0 - o.0).abs() <= POLISH_MAX_SHIFT * o.0);
-        let kept = polished.is_ok()
-            && worst(&again) < worst(&checked[range.clone()])
+        let kept = worst(&again) < worst(&checked[range.clone()])
             && (stayed || counted_whole(self.pencil, &old, &pairs[range.clone()], stats));
         if kept {
             for (c, a) in checked[range].iter_mut().zip(again) {

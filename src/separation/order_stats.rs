@@ -110,14 +110,7 @@ pub fn binomial_cdf(n: usize, q: f64) -> Vec<f64> {
         f[n] = 1.0;
         return f;
     }
-    let ratio = (q / (1.0 - q)).ln();
-    let mut log_pmf = Vec::with_capacity(n + 1);
-    let mut l = n as f64 * (-q).ln_1p();
-    log_pmf.push(l);
-    for k in 0..n {
-        l += ((n - k) as f64 / (k + 1) as f64).ln() + ratio;
-        log_pmf.push(l);
-    }
+    let log_pmf = log_pmf(n, q, n);
     let top = log_pmf.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let mut acc = 0.0;
     let mut cdf: Vec<f64> = log_pmf
@@ -138,17 +131,25 @@ pub fn binomial_cdf(n: usize, q: f64) -> Vec<f64> {
 /// logarithms, largest first), so that a campaign of a million runs with few failures costs
 /// x terms per call, not n.
 fn binomial_cdf_at(n: usize, q: f64, x: usize) -> f64 {
-    let ratio = (q / (1.0 - q)).ln();
-    let mut l = n as f64 * (-q).ln_1p();
-    let mut logs = Vec::with_capacity(x + 1);
-    for k in 0..=x.min(n) {
-        logs.push(l);
-        l += ((n - k) as f64 / (k + 1) as f64).ln() + ratio;
-    }
+    let logs = log_pmf(n, q, x.min(n));
     let top = logs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     (top + logs.iter().map(|&l| (l - top).exp()).sum::<f64>().ln())
         .exp()
         .min(1.0)
+}
+
+/// ln P(Binomial(n, q) = k) for k = 0..=upto (upto ≤ n, 0 < q < 1), by the ratio of
+/// consecutive terms from ln (1 − q)ⁿ.
+fn log_pmf(n: usize, q: f64, upto: usize) -> Vec<f64> {
+    let ratio = (q / (1.0 - q)).ln();
+    let mut l = n as f64 * (-q).ln_1p();
+    let mut logs = Vec::with_capacity(upto + 1);
+    logs.push(l);
+    for k in 0..upto {
+        l += ((n - k) as f64 / (k + 1) as f64).ln() + ratio;
+        logs.push(l);
+    }
+    logs
 }
 
 fn in_open_unit(x: f64) -> bool {

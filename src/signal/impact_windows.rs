@@ -141,6 +141,21 @@ fn apply_exponential(x: &mut [f64], hit: usize, tau: f64, fs: f64) {
     }
 }
 
+/// A pole identified on exponentially windowed records, (natural frequency, ζ), with the
+/// window taken out: e^(−t/τ) moves every pole left by 1/τ, so the decay rate ζ·ωn loses 1/τ
+/// and the damped frequency stays (exact, where [`corrected_q`] is its light-damping form for
+/// a half-power Q). `None` when the window's decay is all that was measured.
+pub fn corrected_pole(f_hz: f64, zeta: f64, tau_s: f64) -> Option<(f64, f64)> {
+    let wn = 2.0 * std::f64::consts::PI * f_hz;
+    let decay = zeta * wn - 1.0 / tau_s;
+    if decay <= 0.0 {
+        return None;
+    }
+    let wd = wn * (1.0 - zeta.powi(2)).max(0.0).sqrt();
+    let wn_true = decay.hypot(wd);
+    Some((wn_true / (2.0 * std::f64::consts::PI), decay / wn_true))
+}
+
 /// The half-power Q of a mode at `f_hz` with the exponential window's damping removed:
 /// ζ = 1/(2Q) − 1/(2π f τ). `None` when the window's damping is all that was measured.
 pub fn corrected_q(f_hz: f64, q: f64, tau_s: f64) -> Option<f64> {

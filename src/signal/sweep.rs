@@ -307,7 +307,7 @@ pub fn q_resolution_note(
     res: &Resonance,
     opts: &SweepOptions,
 ) -> Option<String> {
-    use super::peaks::MIN_HALF_POWER_LINES;
+    use super::peaks::{MIN_HALF_POWER_LINES, under_resolved_band};
     let band = res.frequency_hz / res.q?;
     let (f, t) = (&track.frequency_hz, &track.time_s);
     let i = f
@@ -316,8 +316,6 @@ pub fn q_resolution_note(
     let spacing = (f[i + 1] - f[i - 1]).abs() / 2.0;
     let rate = (f[i + 1] - f[i - 1]).abs() / (t[i + 1] - t[i - 1]);
     let span = rate * opts.block_s;
-    let points = band / spacing;
-    let per_block = band / span;
     let at = format!(
         "resonance at {:.3} Hz: its half-power band ({band:.4} Hz)",
         res.frequency_hz
@@ -329,19 +327,18 @@ pub fn q_resolution_note(
             "it needs {what} {limit:.4} s or less (less still if the true band is narrower), or a slower sweep"
         )
     };
-    if per_block < MIN_HALF_POWER_LINES {
-        Some(format!(
+    if let Some(per_block) = under_resolved_band(band, span) {
+        return Some(format!(
             "{at} is only {per_block:.1} times the {span:.4} Hz one {:.3} s block sweeps there ({rate:.3} Hz/s), \
              so each block averages the response across the peak: |H| and Q read low and the peak shifts the sweep's way; {}",
             opts.block_s,
             remedy("--block-s", band / (MIN_HALF_POWER_LINES * rate))
-        ))
-    } else if points < MIN_HALF_POWER_LINES {
-        Some(format!(
+        ));
+    }
+    under_resolved_band(band, spacing).map(|points| {
+        format!(
             "{at} spans {points:.1} track point(s) {spacing:.4} Hz apart, so its Q is set by the tracking grid as much as by the damping; {}",
             remedy("--hop-s", band / (MIN_HALF_POWER_LINES * rate))
-        ))
-    } else {
-        None
-    }
+        )
+    })
 }

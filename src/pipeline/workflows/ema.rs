@@ -6,7 +6,7 @@ use super::frf::{Estimate, estimate};
 use crate::error::Error;
 use crate::signal::ema::{EmaModel, EmaOptions, FrfSet, Mode, identify};
 use crate::signal::frf::read_frf_logs;
-use crate::signal::impact_windows::ImpactWindows;
+use crate::signal::impact_windows::{ImpactWindows, corrected_pole};
 use crate::signal::{Frf, IngestOptions, WelchOptions};
 use std::path::PathBuf;
 
@@ -77,29 +77,24 @@ pub fn run(req: &EmaRequest) -> Result<EmaRun, Error> {
     })
 }
 
-/// The exponential window e^(−t/τ) moves every pole left by 1/τ: each mode's decay rate
-/// ζ·ωn loses 1/τ, its damped frequency stays. A mode whose decay the window alone explains
-/// has no damping the test can show: it is dropped, with a note.
+/// The identified modes with the exponential window's decay taken out of their poles
+/// (`impact_windows::corrected_pole`); a mode whose decay the window alone explains has no
+/// damping the test can show: it is dropped, with a note.
 fn without_window_damping(modes: Vec<Mode>, tau: f64, notes: &mut Vec<String>) -> Vec<Mode> {
     modes
         .into_iter()
         .filter_map(|mut m| {
-            let wn = 2.0 * std::f64::consts::PI * m.frequency_hz;
-            let decay = m.damping_ratio * wn - 1.0 / tau;
-            let wd = wn * (1.0 - m.damping_ratio.powi(2)).max(0.0).sqrt();
-            if decay <= 0.0 {
+            let Some((f, zeta)) = corrected_pole(m.frequency_hz, m.damping_ratio, tau) else {
                 notes.push(format!(
                     "mode at {:.3} Hz dropped: its damping (ζ {:.5}) is no more than the exponential window's \
                      (τ = {tau:.4} s adds ζ = {:.5}); longer records would show it",
                     m.frequency_hz,
                     m.damping_ratio,
-                    1.0 / (wn * tau)
+                    1.0 / (2.0 * std::f64::consts::PI * m.frequency_hz * tau)
                 ));
                 return None;
-            }
-            let wn_true = decay.hypot(wd);
-            m.frequency_hz = wn_true / (2.0 * std::f64::consts::PI);
-            m.damping_ratio = decay / wn_true;
+            };
+            (m.frequency_hz, m.damping_ratio) = (f, zeta);
             Some(m)
         })
         .collect()

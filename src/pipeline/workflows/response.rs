@@ -23,8 +23,7 @@ pub struct ResponseRun<A> {
 /// `[sine]` on the planned axes, with the scene's modes.
 pub fn sine(scene: &Scene, plan: &AxesPlan<SineSpec>) -> Result<ResponseRun<SineAxis>, Error> {
     let (model, sys) = super::modal::run(scene, &default_modal(scene))?;
-    refuse_unsupported(scene, &sys)?;
-    refuse_renumbered_damping(scene, &sys)?;
+    refuse_unfit(scene, &sys)?;
     let prep = Prepared::new(scene, &model, &sys)?;
     Ok(ResponseRun {
         axes: sine_axes(&prep, plan)?,
@@ -39,8 +38,7 @@ pub fn random(
     plan: &AxesPlan<RandomSpec>,
 ) -> Result<ResponseRun<RandomAxis>, Error> {
     let (model, sys) = super::modal::run(scene, &default_modal(scene))?;
-    refuse_unsupported(scene, &sys)?;
-    refuse_renumbered_damping(scene, &sys)?;
+    refuse_unfit(scene, &sys)?;
     let prep = Prepared::new(scene, &model, &sys)?;
     let (axes, environment) = random_axes(&prep, plan)?;
     Ok(ResponseRun {
@@ -58,8 +56,7 @@ pub fn scene_response(
     sine: Option<&AxesPlan<SineSpec>>,
     random: Option<&AxesPlan<RandomSpec>>,
 ) -> Result<SceneResponse, Error> {
-    refuse_unsupported(scene, sys)?;
-    refuse_renumbered_damping(scene, sys)?;
+    refuse_unfit(scene, sys)?;
     let prep = Prepared::new(scene, model, sys)?;
     let mut environments = Environments {
         sine: sine.map(|p| SineEnvironment::of(&p.spec)),
@@ -98,6 +95,13 @@ fn refuse_unsupported(scene: &Scene, sys: &ModalSystem) -> Result<(), Error> {
         r.rigid_body_directions.join(", ")
     );
     Err(scene.locator().err(key, msg).into())
+}
+
+/// What a response analysis refuses before it starts: an unsupported model, damping given to
+/// modes that were renumbered.
+fn refuse_unfit(scene: &Scene, sys: &ModalSystem) -> Result<(), Error> {
+    refuse_unsupported(scene, sys)?;
+    refuse_renumbered_damping(scene, sys)
 }
 
 /// A `[damping] modes` entry that names its mode's direction must find the mode numbered so

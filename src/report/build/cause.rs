@@ -52,11 +52,11 @@ pub fn sentence(g: &Verdict) -> String {
 /// would misstate it.
 fn short_of_runs(g: &Verdict, v: &str, l: &str) -> Option<String> {
     use crate::gates::separation::NOT_DEMONSTRATED;
-    let subject = subject(g);
-    let (what, why) = subject.split_once(&format!(" {NOT_DEMONSTRATED}"))?;
     if g.pass {
         return None;
     }
+    let subject = subject(g);
+    let (what, why) = subject.split_once(&format!(" {NOT_DEMONSTRATED}"))?;
     let why = why.trim_start_matches(':').trim();
     let why = why.split(" (value:").next().unwrap_or(why);
     Some(format!(
