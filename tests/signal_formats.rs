@@ -189,6 +189,47 @@ fn lvm_header_decides_separator_decimal_units_and_rate() {
     assert_eq!(fs, 1.0);
 }
 
+/// A LabVIEW segment holding channels of two rates (uneven_comments.lvm: 24 channels at
+/// Delta_X 0.5 s on every row, 5 at 1 s written on every fourth row and empty between): the
+/// full channels are read at the X column's 2 Hz, each slower one is listed as not read with
+/// its reason, and asking for one by name is an error giving that reason, not "no such channel".
+#[test]
+fn lvm_channels_of_a_slower_rate_are_named_not_read() {
+    let p = repo_path("data/realdata/dialects/lvm_read/uneven_comments.lvm");
+    let log = read_log(&p, &IngestOptions::default()).unwrap();
+    assert_eq!(log.info.channels.len(), 24);
+    assert_eq!(log.info.fs_hz, 2.0);
+    let ignored = &log.info.ingest.ignored_columns;
+    for slow in [
+        "TotalWarmFlow",
+        "ColdFlow",
+        "MethaneFlow",
+        "Lambda",
+        "CDS Flow",
+    ] {
+        let entry = ignored
+            .iter()
+            .find(|c| c.starts_with(&format!("`{slow}`")))
+            .unwrap_or_else(|| panic!("{slow} not listed: {ignored:?}"));
+        assert!(
+            entry.contains("empty in 12 of 16 rows, first at line 26")
+                && entry.contains("Delta_X 1 s against the log's 0.5 s"),
+            "{entry}"
+        );
+    }
+    let opts = IngestOptions {
+        channels: Some(vec!["ColdFlow".into()]),
+        ..IngestOptions::default()
+    };
+    let e = read_log(&p, &opts).unwrap_err().to_string();
+    assert!(
+        e.contains("uneven_comments.lvm")
+            && e.contains("`ColdFlow` cannot be read")
+            && e.contains("empty in 12 of 16 rows"),
+        "{e}"
+    );
+}
+
 /// The 4-sample LabVIEW file from the command line: `srs` reads it at the rate of its header
 /// (Delta_X 0.000250 s = 4000 Hz) and names its channels; `psd` refuses it, since no Welch
 /// segment of the 16-sample minimum fits in 4 samples, naming the count.

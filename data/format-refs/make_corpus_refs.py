@@ -46,6 +46,8 @@ lvm = [
     ("no_decimal_separator.lvm", "az", 5, 4000.0),
     ("with_empty_fields.lvm", "Dev0/Ai2", 2, 1000.0),
     ("with_comments.lvm", "Volume (ml)", 3, None),
+    ("uneven_comments.lvm", "TC06 Diffuser", 1, 2.0),
+    ("short_new_line_end.lvm", "Response (Trigger)", 1, 25600.0),
 ]
 for name, ch, col, fs in lvm:
     seg = lvm_read.read(R + "dialects/lvm_read/" + name, read_from_pickle=False, dump_file=False)[0]

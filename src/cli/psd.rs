@@ -164,7 +164,7 @@ fn summary(args: &Args, run: &PsdRun, wopts: &WelchOptions) -> Vec<String> {
             _ => format!(
                 "Welch nperseg {} ({} Hz lines), {} window, {} segments",
                 wopts.nperseg,
-                first.psd.df,
+                satqual::signal::welch::round_to_micro(first.psd.df),
                 wopts.window.name(),
                 first.psd.segments
             ),

@@ -197,10 +197,16 @@ pub fn resolution_note(fs: f64, nperseg: usize, lo: f64, hi: f64) -> Option<Stri
         return None;
     }
     let needed = (MIN_LINES_IN_BAND as f64 * fs / (hi - lo)).ceil();
+    let df = round_to_micro(df);
     Some(format!(
-        "nperseg {nperseg} gives {df:.6} Hz lines: only {lines} line(s) in the band {lo:.3}–{hi:.3} Hz; \
+        "nperseg {nperseg} gives {df} Hz lines: only {lines} line(s) in the band {lo:.3}–{hi:.3} Hz; \
          pass --nperseg {needed} or more to resolve it"
     ))
+}
+
+/// A line spacing to a millionth of a hertz, written without trailing zeros.
+pub fn round_to_micro(hz: f64) -> f64 {
+    (hz * 1e6).round() / 1e6
 }
 
 impl WelchOptions {

@@ -95,6 +95,7 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
         series: Vec::new(),
         rate: Rate::Unknown,
         ignored: Vec::new(),
+        unreadable: Vec::new(),
         notes: vec![format!(
             "{}: LabVIEW .lvm, X columns {:?}, {} data rows from line {}",
             path.display(),
@@ -103,7 +104,7 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
             names_line + 2
         )],
     };
-    let mut dts = Vec::new();
+    let mut found = Vec::new();
     for (k, &(col, ref name)) in columns.iter().enumerate() {
         let declared_empty = samples.get(k).is_some_and(|s| s == "0");
         let values: Vec<Option<f64>> = rows
@@ -114,21 +115,59 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
             table.ignored.push(format!("`{name}` (empty throughout)"));
             continue;
         }
-        let values = full_column(path, &rows, &values, name)?;
-        if let Some(dt) = delta.get(k).and_then(|d| number(d, layout.decimal_comma)) {
-            dts.push((name.clone(), dt));
-        }
-        table.series.push(Series {
+        found.push(Found {
             name: name.clone(),
             unit_label: units.get(k).cloned().unwrap_or_default(),
+            dt: delta.get(k).and_then(|d| number(d, layout.decimal_comma)),
             values,
         });
+    }
+    let log_dt = log_interval(&found);
+    for f in found {
+        match readable(&f, &rows, log_dt) {
+            Ok(values) => table.series.push(Series {
+                name: f.name,
+                unit_label: f.unit_label,
+                values,
+            }),
+            Err(why) => table.unreadable.push((f.name, why)),
+        }
     }
     if names.last().is_some_and(|n| n == "Comment") {
         table.ignored.push("`Comment` (text)".into());
     }
-    table.rate = rate(path, &rows, &dts, &layout, seg_end)?;
+    table.rate = rate(&rows, log_dt, &layout);
+    if let Rate::Stated(fs, _) = table.rate
+        && let Some(text) = delta
+            .iter()
+            .find(|d| number(d, layout.decimal_comma) == log_dt)
+        && let Some(rel) = rounding_of(text, 1.0 / fs)
+        && rel > DELTA_X_ROUNDING_NOTE
+    {
+        table.notes.push(format!(
+            "{}: Delta_X `{text}` is written to few digits: the rate {fs:.3} Hz is known to ±{:.2}%; pass --fs F --fs-override if the acquisition rate is known",
+            path.display(),
+            rel * 100.0
+        ));
+    }
     Ok(table)
+}
+
+/// Relative rounding of a written `Delta_X` above which the rate it gives is noted as uncertain
+/// (LabVIEW writes 6 decimals by default: 1/1024 s becomes 0.000977, 0.05% off).
+const DELTA_X_ROUNDING_NOTE: f64 = 1e-4;
+
+/// Half a unit of the last written digit of `text`, relative to its value `dt`.
+fn rounding_of(text: &str, dt: f64) -> Option<f64> {
+    let lower = text.to_ascii_lowercase();
+    let (mantissa, exponent) = match lower.split_once('e') {
+        Some((m, e)) => (m, e.parse::<i32>().ok()?),
+        None => (lower.as_str(), 0),
+    };
+    let decimals = mantissa
+        .split_once(['.', ','])
+        .map_or(0, |(_, f)| f.len() as i32);
+    Some(0.5 * 10f64.powi(exponent - decimals) / dt)
 }
 
 fn find_end(lines: &[&str], from: usize) -> Option<usize> {
@@ -286,42 +325,64 @@ fn data_rows(
     Ok(rows)
 }
 
-/// A channel's values; an empty cell in a channel that has data elsewhere is an error.
-fn full_column(
-    path: &Path,
-    rows: &[Row],
-    values: &[Option<f64>],
-    name: &str,
-) -> Result<Vec<f64>, SignalError> {
-    values
-        .iter()
-        .zip(rows)
-        .map(|(v, (line, _))| {
-            v.ok_or_else(|| err(path, *line, format!("channel `{name}`: empty cell")))
-        })
-        .collect()
+/// A channel column as found: its cells (empty ones `None`) and its `Delta_X`.
+struct Found {
+    name: String,
+    unit_label: String,
+    dt: Option<f64>,
+    values: Vec<Option<f64>>,
 }
 
-/// The sampling rate: the first X column when it holds times, else `Delta_X`, which must be
-/// the same for every channel read.
-fn rate(
-    path: &Path,
-    rows: &[Row],
-    dts: &[(String, f64)],
-    l: &Layout,
-    seg_end: usize,
-) -> Result<Rate, SignalError> {
-    if let Some((name, dt)) = dts.first()
-        && let Some((other, dt2)) = dts.iter().find(|(_, d)| (d - dt).abs() > 1e-9 * dt.abs())
-    {
-        return Err(err(
-            path,
-            seg_end,
-            format!(
-                "Delta_X differs between channels (`{name}` {dt}, `{other}` {dt2}): select channels of one rate with --channels"
-            ),
+/// The log's sampling interval: the `Delta_X` most of the full columns share (the first
+/// channel's on a tie). LabVIEW writes channels of several rates into one segment, each slower
+/// one with empty cells between its samples.
+fn log_interval(found: &[Found]) -> Option<f64> {
+    let full = found
+        .iter()
+        .filter(|f| f.values.iter().all(Option::is_some));
+    let mut counts: Vec<(f64, usize)> = Vec::new();
+    for dt in full.filter_map(|f| f.dt) {
+        match counts.iter_mut().find(|(d, _)| same_interval(*d, dt)) {
+            Some(c) => c.1 += 1,
+            None => counts.push((dt, 1)),
+        }
+    }
+    let most = counts.iter().map(|c| c.1).max()?;
+    counts.iter().find(|c| c.1 == most).map(|c| c.0)
+}
+
+fn same_interval(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+}
+
+/// A channel's values when it is sampled on every row at the log's interval; otherwise why
+/// not (it is then listed as not read, and asking for it by name gives the reason).
+fn readable(f: &Found, rows: &[Row], log_dt: Option<f64>) -> Result<Vec<f64>, String> {
+    let other_rate = match (f.dt, log_dt) {
+        (Some(dt), Some(log)) if !same_interval(dt, log) => {
+            Some(format!("Delta_X {dt} s against the log's {log} s"))
+        }
+        _ => None,
+    };
+    let empty = f.values.iter().filter(|v| v.is_none()).count();
+    if empty > 0 {
+        let first = f.values.iter().position(Option::is_none).unwrap_or(0);
+        let rate = other_rate.map_or(String::new(), |r| format!(": sampled at its own rate, {r}"));
+        return Err(format!(
+            "empty in {empty} of {} rows, first at line {}{rate}",
+            f.values.len(),
+            rows[first].0
         ));
     }
+    if let Some(r) = other_rate {
+        return Err(format!("{r}: one log is read at one rate"));
+    }
+    Ok(f.values.iter().flatten().copied().collect())
+}
+
+/// The sampling rate: the first X column when it holds times, else the `Delta_X` of the
+/// channels read.
+fn rate(rows: &[Row], log_dt: Option<f64>, l: &Layout) -> Rate {
     if l.x != XColumns::No {
         let times: Vec<Option<f64>> = rows
             .iter()
@@ -329,14 +390,30 @@ fn rate(
             .collect();
         if times.iter().all(Option::is_some) {
             let t = times.into_iter().flatten().collect();
-            return Ok(Rate::Times(t, "X_Value".into()));
+            return Rate::Times(t, "X_Value".into());
         }
     }
-    match dts.first() {
-        Some((_, dt)) if *dt > 0.0 => Ok(Rate::Stated(
-            1.0 / dt,
-            "Delta_X of the LVM segment header".into(),
-        )),
-        _ => Ok(Rate::Unknown),
+    match log_dt {
+        Some(dt) if dt > 0.0 => Rate::Stated(1.0 / dt, "Delta_X of the LVM segment header".into()),
+        _ => Rate::Unknown,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rounding_of;
+
+    /// Half a unit of the last digit over the value: LabVIEW's 6 decimals of 1/1024 s are
+    /// 0.5e-6 / 0.000977 = 5.1e-4 off at most (the true 0.0009765625 is 4.5e-4 off); the
+    /// `3,906250E-5` of short.lvm (1/25 600 s) is exact to 0.5e-11 / 3.90625e-5 = 1.3e-7.
+    #[test]
+    fn rounding_of_a_written_interval_is_half_its_last_digit() {
+        let r = rounding_of("0.000977", 0.000977).unwrap();
+        assert!((r - 0.5e-6 / 0.000977).abs() < 1e-15, "{r}");
+        assert!((0.000977f64 - 1.0 / 1024.0).abs() / 0.000977 < r);
+        let r = rounding_of("3,906250E-5", 3.90625e-5).unwrap();
+        assert!((r - 0.5e-11 / 3.90625e-5).abs() < 1e-18, "{r}");
+        assert_eq!(rounding_of("1", 1.0), Some(0.5));
+        assert_eq!(rounding_of("1e-x", 1.0), None);
     }
 }

@@ -115,6 +115,7 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
         series,
         rate,
         ignored,
+        unreadable: Vec::new(),
         notes: file.note(path).into_iter().collect(),
     })
 }

@@ -41,6 +41,9 @@ pub struct Table {
     pub rate: Rate,
     /// Columns or variables not read, and why (said once on stderr).
     pub ignored: Vec<String>,
+    /// Channels found but not readable at this log's rate and length (a slower channel, a
+    /// shorter vector): name and why. Asking for one by name is an error giving the reason.
+    pub unreadable: Vec<(String, String)>,
     pub notes: Vec<String>,
 }
 
@@ -150,6 +153,30 @@ fn rate_of_times(path: &Path, t: &[f64], name: &str, tol: f64) -> Result<f64, Si
     Ok(1.0 / dt)
 }
 
+/// Where the channel `name` is among the series read; a channel the reader found but could
+/// not read says why.
+fn channel_index(path: &Path, t: &Table, name: &str) -> Result<usize, SignalError> {
+    if let Some(i) = t.series.iter().position(|s| s.name == name) {
+        return Ok(i);
+    }
+    if let Some((_, why)) = t.unreadable.iter().find(|(n, _)| n == name) {
+        return Err(SignalError::Unsupported {
+            file: path.to_path_buf(),
+            message: format!("channel `{name}` cannot be read with the others: {why}"),
+        });
+    }
+    Err(SignalError::NoSuchChannel {
+        file: path.to_path_buf(),
+        name: name.to_string(),
+        available: t
+            .series
+            .iter()
+            .map(|s| s.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+    })
+}
+
 /// Picks the channels asked for (all by default), converts them to their reported unit, and
 /// describes the read.
 pub fn table_to_log(path: &Path, t: Table, opts: &IngestOptions) -> Result<Log, SignalError> {
@@ -157,23 +184,16 @@ pub fn table_to_log(path: &Path, t: Table, opts: &IngestOptions) -> Result<Log, 
     let chosen: Vec<usize> = match &opts.channels {
         Some(list) => list
             .iter()
-            .map(|n| {
-                t.series.iter().position(|s| s.name == *n).ok_or_else(|| {
-                    SignalError::NoSuchChannel {
-                        file: path.to_path_buf(),
-                        name: n.clone(),
-                        available: t
-                            .series
-                            .iter()
-                            .map(|s| s.name.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                    }
-                })
-            })
+            .map(|n| channel_index(path, &t, n))
             .collect::<Result<_, _>>()?,
         None => (0..t.series.len()).collect(),
     };
+    let mut t = t;
+    t.ignored.extend(
+        t.unreadable
+            .iter()
+            .map(|(name, why)| format!("`{name}` ({why})")),
+    );
     if chosen.is_empty() {
         return Err(SignalError::Unsupported {
             file: path.to_path_buf(),

@@ -93,6 +93,7 @@ struct Found {
     rate: Option<(f64, String)>,
     times: Option<(Vec<f64>, String)>,
     ignored: Vec<String>,
+    unreadable: Vec<(String, String)>,
     notes: Vec<String>,
 }
 
@@ -102,6 +103,7 @@ fn to_table(path: &Path, vars: Vec<(String, Value)>) -> Table {
         rate: None,
         times: None,
         ignored: Vec::new(),
+        unreadable: Vec::new(),
         notes: Vec::new(),
     };
     for (name, value) in vars {
@@ -126,6 +128,7 @@ fn to_table(path: &Path, vars: Vec<(String, Value)>) -> Table {
         series: f.series,
         rate,
         ignored: f.ignored,
+        unreadable: f.unreadable,
         notes,
     }
 }
@@ -213,8 +216,8 @@ fn matrix_channels(name: &str, rows: usize, cols: usize, data: &[f64], f: &mut F
 /// Keeps the channels of the time vector's length (else of the most common length, the
 /// longer on a tie) and lists the others.
 fn keep_common_length(f: &mut Found) {
-    let len = match &f.times {
-        Some((t, _)) => t.len(),
+    let (len, of_what) = match &f.times {
+        Some((t, name)) => (t.len(), format!("the time vector `{name}`")),
         None => {
             let mut counts: Vec<(usize, usize)> = Vec::new();
             for s in &f.series {
@@ -223,21 +226,19 @@ fn keep_common_length(f: &mut Found) {
                     None => counts.push((s.values.len(), 1)),
                 }
             }
-            counts
+            let len = counts
                 .iter()
                 .max_by_key(|(l, n)| (*n, *l))
-                .map_or(0, |c| c.0)
+                .map_or(0, |c| c.0);
+            (len, "most channels".to_string())
         }
     };
     let (keep, drop): (Vec<Series>, Vec<Series>) = std::mem::take(&mut f.series)
         .into_iter()
         .partition(|s| s.values.len() == len);
     for s in drop {
-        f.ignored.push(format!(
-            "`{}` ({} samples, not {len})",
-            s.name,
-            s.values.len()
-        ));
+        let why = format!("{} samples, not the {len} of {of_what}", s.values.len());
+        f.unreadable.push((s.name, why));
     }
     f.series = keep;
 }
