@@ -305,6 +305,59 @@ fn uff58_with_id_line_4_none_is_named_by_its_response_entity() {
     assert_eq!(v["channels"][0]["name"], "sine");
 }
 
+/// Three records named alike (ID line 4 `NONE`, one response entity, nodes 1–3 in +Z), as a
+/// roving test exports them: each channel gains its point (`sine:2:+Z`), the shared name alone
+/// is an error listing them (never the first record, silently), and the point name selects
+/// its record (record k scaled by k: RMS k·2/√2 to the E13.5 values' 1e-5).
+#[test]
+fn uff58_records_sharing_a_name_are_told_apart_by_their_point() {
+    let record = |node: u32, scale: f64| {
+        uff58("Acceleration", "g", scale)
+            .replace("\nAcc 1\n", "\nNONE\n")
+            .replace(
+                "sine               1   3",
+                &format!("sine               {node}   3"),
+            )
+    };
+    let text: String = (1..=3).map(|k| record(k, k as f64)).collect();
+    let p = write("roving.uff", &text);
+    let path = p.to_str().unwrap();
+    let (code, out, err) =
+        crate::common::run_text(&["psd", path, "--nperseg", "500", "--json"], None);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let names: Vec<&str> = (0..3)
+        .map(|i| v["channels"][i]["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["sine:1:+Z", "sine:2:+Z", "sine:3:+Z"]);
+    let (code, _, err) = crate::common::run_text(
+        &["psd", path, "--nperseg", "500", "--channels", "sine"],
+        None,
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("no channel named `sine`") && err.contains("sine:3:+Z"),
+        "{err}"
+    );
+    let (code, out, err) = crate::common::run_text(
+        &[
+            "psd",
+            path,
+            "--nperseg",
+            "500",
+            "--channels",
+            "sine:2:+Z",
+            "--json",
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let want = 2.0 * 2.0 / 2f64.sqrt();
+    let rms = v["channels"][0]["rms"].as_f64().unwrap();
+    assert!((rms - want).abs() < want * 1e-5, "{rms}");
+}
+
 #[test]
 fn a_bad_first_row_is_reported_not_taken_for_a_header_or_units_row() {
     let p = write(

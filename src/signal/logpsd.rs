@@ -191,19 +191,9 @@ fn psd_of_uff(
     opts: &WelchOptions,
 ) -> Result<LogPsd, SignalError> {
     let records = read_uff58(path)?;
-    let named: Vec<(String, &super::uff::UffRecord)> = records
-        .iter()
-        .enumerate()
-        .map(|(i, r)| {
-            (
-                if r.id4.is_empty() {
-                    format!("record {}", i + 1)
-                } else {
-                    r.id4.clone()
-                },
-                r,
-            )
-        })
+    let named: Vec<(String, &super::uff::UffRecord)> = super::uff::channel_names(&records)
+        .into_iter()
+        .zip(&records)
         .collect();
     let chosen: Vec<&(String, &super::uff::UffRecord)> = match &ingest.channels {
         Some(list) => list

@@ -9,7 +9,7 @@ pub mod table;
 
 use crate::error::SignalError;
 use crate::signal::ingest::{IngestOptions, Log, Unit, read_csv};
-use crate::signal::uff::{looks_like_uff, ordinate_unit, read_uff};
+use crate::signal::uff::{channel_names, looks_like_uff, ordinate_unit, read_uff};
 use std::io::Read;
 use std::path::Path;
 use table::{Rate, Series, Table, table_to_log};
@@ -70,12 +70,8 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
     let mut series = Vec::new();
     let mut ignored = Vec::new();
     let mut rate = Rate::Unknown;
-    for (i, r) in file.records.iter().enumerate() {
-        let name = if r.id4.is_empty() {
-            format!("record {}", i + 1)
-        } else {
-            r.id4.clone()
-        };
+    let names = channel_names(&file.records);
+    for (r, name) in file.records.iter().zip(names) {
         let step = r.uniform_step();
         match (r.function.function_type, r.is_complex(), step) {
             (1, false, Some(step)) => {

@@ -131,12 +131,8 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
     let records = read_uff58(path)?;
     let mut out = Vec::new();
     let mut fs = None;
-    for (i, r) in records.iter().enumerate() {
-        let name = if r.id4.is_empty() {
-            format!("record {}", i + 1)
-        } else {
-            r.id4.clone()
-        };
+    let names = crate::signal::uff::channel_names(&records);
+    for (r, name) in records.iter().zip(names) {
         if ingest.channels.as_ref().is_some_and(|l| !l.contains(&name)) {
             continue;
         }
@@ -159,7 +155,12 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
         let k = unit.to_report_factor();
         out.push((name, unit, r.re.iter().map(|v| v * k).collect()));
     }
-    check_uff_selection(path, ingest, &out, &records)?;
+    check_uff_selection(
+        path,
+        ingest,
+        &out,
+        &crate::signal::uff::channel_names(&records),
+    )?;
     let fs = fs.ok_or_else(|| SignalError::HeaderOnly {
         file: path.to_path_buf(),
     })?;
@@ -171,7 +172,7 @@ fn check_uff_selection(
     path: &Path,
     ingest: &IngestOptions,
     found: &Records,
-    records: &[crate::signal::uff::UffRecord],
+    names: &[String],
 ) -> Result<(), SignalError> {
     let Some(list) = &ingest.channels else {
         return Ok(());
@@ -180,11 +181,7 @@ fn check_uff_selection(
         Some(missing) => Err(SignalError::NoSuchChannel {
             file: path.to_path_buf(),
             name: missing.clone(),
-            available: records
-                .iter()
-                .map(|r| r.id4.as_str())
-                .collect::<Vec<_>>()
-                .join(", "),
+            available: names.join(", "),
         }),
         None => Ok(()),
     }

@@ -433,6 +433,62 @@ fn split_points(
     (abscissa, re, im)
 }
 
+/// The channel name of each record, unique within the file: ID line 4, else record 6's
+/// response entity, else `record k`. Records sharing a name (a roving test names every record
+/// by its test case) gain their response node and direction, `TestCase:3:+Z`, as modal tests
+/// name their points, and `(record k)` if that is still not unique: a selection by name must
+/// never pick one of several records silently.
+pub fn channel_names(records: &[UffRecord]) -> Vec<String> {
+    let base: Vec<String> = records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            if r.id4.is_empty() {
+                format!("record {}", i + 1)
+            } else {
+                r.id4.clone()
+            }
+        })
+        .collect();
+    let count = |names: &[String], n: &str| names.iter().filter(|m| *m == n).count();
+    let pointed: Vec<String> = base
+        .iter()
+        .zip(records)
+        .map(|(b, r)| {
+            if count(&base, b) > 1 {
+                format!("{b}:{}", point_label(&r.function))
+            } else {
+                b.clone()
+            }
+        })
+        .collect();
+    pointed
+        .iter()
+        .enumerate()
+        .map(|(i, n)| {
+            if count(&pointed, n) > 1 {
+                format!("{n} (record {})", i + 1)
+            } else {
+                n.clone()
+            }
+        })
+        .collect()
+}
+
+/// `node:direction` of a record's response (`12:+Z`, `4:-RX`; the node alone for a scalar).
+fn point_label(r6: &Record6) -> String {
+    const AXES: [&str; 6] = ["X", "Y", "Z", "RX", "RY", "RZ"];
+    let d = r6.response_direction;
+    match AXES.get((d.unsigned_abs() as usize).wrapping_sub(1)) {
+        Some(axis) => format!(
+            "{}:{}{axis}",
+            r6.response_node,
+            if d < 0 { "-" } else { "+" }
+        ),
+        None => r6.response_node.to_string(),
+    }
+}
+
 /// Whether a file looks like UFF (first non-blank line is the `-1` delimiter).
 pub fn looks_like_uff(path: &Path) -> bool {
     use std::io::Read;
@@ -465,5 +521,29 @@ pub(crate) fn ordinate_unit(
         Unit::G
     } else {
         ingest.default_unit.unwrap_or(Unit::AsIs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Record6, point_label};
+
+    /// Record 6's direction code (UFF58: 1–3 translations X, Y, Z, 4–6 rotations, negative for
+    /// the minus direction, 0 scalar) written as a modal test names its points.
+    #[test]
+    fn a_point_is_its_node_and_signed_direction() {
+        let r6 = |node, dir| Record6 {
+            function_type: 1,
+            response_entity: String::new(),
+            response_node: node,
+            response_direction: dir,
+            reference_entity: String::new(),
+            reference_node: 0,
+            reference_direction: 0,
+        };
+        assert_eq!(point_label(&r6(12, 3)), "12:+Z");
+        assert_eq!(point_label(&r6(4, -4)), "4:-RX");
+        assert_eq!(point_label(&r6(7, 0)), "7");
+        assert_eq!(point_label(&r6(7, 9)), "7");
     }
 }
