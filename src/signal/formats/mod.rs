@@ -88,9 +88,8 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
                     rate = Rate::Stated(1.0 / step, format!("the abscissa increment of `{name}`"));
                 }
                 let unit_label = match ordinate_unit(&r.ordinate_label, opts, &name) {
-                    Unit::G => "g",
-                    Unit::MPerS2 => "m/s2",
                     Unit::AsIs => "",
+                    unit => unit.label(),
                 };
                 series.push(Series {
                     name,

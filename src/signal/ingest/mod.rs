@@ -20,6 +20,7 @@ mod plausible_rate;
 pub mod sniff;
 mod time_unit;
 mod timing;
+mod unit;
 
 use crate::error::SignalError;
 pub use bandlimit::AntiAliasReport;
@@ -30,66 +31,7 @@ use std::path::{Path, PathBuf};
 pub use time_unit::{TimeUnit, time_column_unit};
 pub use timing::{JITTER_LIMIT, JitterReport};
 use timing::{Timing, TimingOutcome};
-
-/// Physical unit of a channel, as found in its name or given by the caller.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub enum Unit {
-    #[serde(rename = "g")]
-    G,
-    #[serde(rename = "m/s2")]
-    MPerS2,
-    /// Anything else (force, voltage, ...): values are kept as they are.
-    #[serde(rename = "as-is")]
-    AsIs,
-}
-
-impl Unit {
-    pub fn parse(s: &str) -> Result<Unit, SignalError> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "g" => Ok(Unit::G),
-            "m/s2" | "m/s^2" | "m/s²" | "ms2" | "m_s2" => Ok(Unit::MPerS2),
-            "as-is" | "raw" | "none" => Ok(Unit::AsIs),
-            _ => Err(SignalError::BadParameter {
-                name: "units",
-                value: s.to_string(),
-                reason: "expected g, m/s2 or as-is".into(),
-            }),
-        }
-    }
-
-    /// The unit a channel name states, e.g. `accel_g`, `a [m/s2]`, `acc_m_s2`.
-    pub fn from_name(name: &str) -> Option<Unit> {
-        let n = name.trim().to_ascii_lowercase();
-        if n.ends_with("_g") || n.ends_with("[g]") || n.ends_with("(g)") || n == "g" {
-            Some(Unit::G)
-        } else if ["m/s2", "m/s^2", "m/s²", "_m_s2", "_ms2", "mps2"]
-            .iter()
-            .any(|s| {
-                n.ends_with(s) || n.ends_with(&format!("{s}]")) || n.ends_with(&format!("{s})"))
-            })
-        {
-            Some(Unit::MPerS2)
-        } else {
-            None
-        }
-    }
-
-    /// Factor from this unit to the unit the analysis reports (g for accelerations).
-    pub fn to_report_factor(self) -> f64 {
-        match self {
-            Unit::MPerS2 => 1.0 / crate::units::G,
-            Unit::G | Unit::AsIs => 1.0,
-        }
-    }
-
-    /// Unit of the values after conversion.
-    pub fn reported(self) -> &'static str {
-        match self {
-            Unit::G | Unit::MPerS2 => "g",
-            Unit::AsIs => "as-is",
-        }
-    }
-}
+pub use unit::Unit;
 
 /// Where a channel's unit came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

@@ -504,7 +504,7 @@ pub fn looks_like_uff(path: &Path) -> bool {
 }
 
 /// The unit of a record's channel: a `--units` entry for the channel wins, then the record's
-/// units field (m/s² or g), then the default unit of the read.
+/// units field (an acceleration unit [`Unit::parse`] knows), then the default unit of the read.
 pub(crate) fn ordinate_unit(
     label: &str,
     ingest: &crate::signal::ingest::IngestOptions,
@@ -514,19 +514,30 @@ pub(crate) fn ordinate_unit(
     if let Some((_, u)) = ingest.channel_units.iter().find(|(n, _)| n == name) {
         return *u;
     }
-    let l = label.to_ascii_lowercase();
-    if l.starts_with("m/s") {
-        Unit::MPerS2
-    } else if l.starts_with('g') {
-        Unit::G
-    } else {
-        ingest.default_unit.unwrap_or(Unit::AsIs)
+    match Unit::parse(label).ok().or_else(|| density_unit(label)) {
+        Some(unit) if unit != Unit::AsIs => unit,
+        _ => ingest.default_unit.unwrap_or(Unit::AsIs),
     }
+}
+
+/// The unit of a spectral density's label, the unit squared per hertz as controllers write it
+/// (`g^2/Hz`, `(m/s2)^2/Hz`, VibControl's `gM-2/Hz`): the longest start of the squared part
+/// that is a unit.
+fn density_unit(label: &str) -> Option<crate::signal::ingest::Unit> {
+    let lower = label.trim().to_lowercase();
+    let squared = lower.strip_suffix("/hz")?.trim_start_matches('(');
+    let ends = squared.char_indices().map(|(i, _)| i).skip(1);
+    let mut starts: Vec<&str> = ends.map(|i| &squared[..i]).collect();
+    starts.push(squared);
+    starts
+        .iter()
+        .rev()
+        .find_map(|s| crate::signal::ingest::Unit::parse(s).ok())
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{Record6, point_label};
+    use super::{Record6, density_unit, point_label};
 
     /// Record 6's direction code (UFF58: 1–3 translations X, Y, Z, 4–6 rotations, negative for
     /// the minus direction, 0 scalar) written as a modal test names its points.
@@ -545,5 +556,17 @@ mod tests {
         assert_eq!(point_label(&r6(4, -4)), "4:-RX");
         assert_eq!(point_label(&r6(7, 0)), "7");
         assert_eq!(point_label(&r6(7, 9)), "7");
+    }
+
+    /// A PSD record's units field is its unit squared per hertz.
+    #[test]
+    fn a_density_label_gives_its_squared_unit() {
+        use crate::signal::ingest::Unit;
+        assert_eq!(density_unit("gM-2/Hz"), Some(Unit::G));
+        assert_eq!(density_unit("g^2/Hz"), Some(Unit::G));
+        assert_eq!(density_unit("(m/s2)^2/Hz"), Some(Unit::MPerS2));
+        assert_eq!(density_unit("mg²/Hz"), Some(Unit::MilliG));
+        assert_eq!(density_unit("Pa^2/Hz"), None);
+        assert_eq!(density_unit("g"), None);
     }
 }

@@ -1,0 +1,194 @@
+//! The physical unit of a log channel: read from a unit label, a channel name or `--units`,
+//! and converted to the unit the analysis reports (g for accelerations).
+
+use crate::error::SignalError;
+
+/// Physical unit of a channel, as found in its name or given by the caller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Unit {
+    #[serde(rename = "g")]
+    G,
+    #[serde(rename = "m/s2")]
+    MPerS2,
+    /// Thousandths of g, as low-level accelerometer logs state it.
+    #[serde(rename = "mg")]
+    MilliG,
+    #[serde(rename = "mm/s2")]
+    MmPerS2,
+    /// Inches and feet per second squared, as US laboratories log accelerations.
+    #[serde(rename = "in/s2")]
+    InPerS2,
+    #[serde(rename = "ft/s2")]
+    FtPerS2,
+    /// Anything else (force, voltage, ...): values are kept as they are.
+    #[serde(rename = "as-is")]
+    AsIs,
+}
+
+/// Spellings of each acceleration unit after [`normalise_unit`].
+const UNIT_SPELLINGS: [(Unit, &[&str]); 7] = [
+    (Unit::G, &["g", "gn"]),
+    (Unit::MPerS2, &["m/s2", "ms-2", "ms2", "m_s2", "mps2"]),
+    (Unit::MilliG, &["mg"]),
+    (Unit::MmPerS2, &["mm/s2", "mms-2"]),
+    (Unit::InPerS2, &["in/s2", "ins-2"]),
+    (Unit::FtPerS2, &["ft/s2", "fts-2"]),
+    (Unit::AsIs, &["as-is", "raw", "none"]),
+];
+
+/// A unit as written by acquisition software, reduced to one spelling: lower case, no blanks,
+/// products or powers (`m s^-2`, `m/s**2`, `m·s⁻²`, `m/sec²`, `m/s/s` all become `m/s2` or
+/// `ms-2`).
+fn normalise_unit(s: &str) -> String {
+    let mut n: String = s
+        .trim()
+        .to_lowercase()
+        .replace("⁻²", "-2")
+        .replace('²', "2")
+        .replace("sec", "s")
+        .chars()
+        .filter(|c| !matches!(c, ' ' | '*' | '·' | '^' | '.'))
+        .collect();
+    if let Some(stem) = n.strip_suffix("/s/s") {
+        n = format!("{stem}/s2");
+    }
+    n
+}
+
+impl Unit {
+    pub fn parse(s: &str) -> Result<Unit, SignalError> {
+        let n = normalise_unit(s);
+        UNIT_SPELLINGS
+            .iter()
+            .find(|(_, spellings)| spellings.contains(&n.as_str()))
+            .map(|(u, _)| *u)
+            .ok_or_else(|| SignalError::BadParameter {
+                name: "units",
+                value: s.to_string(),
+                reason: "expected g, mg, m/s2, mm/s2, in/s2, ft/s2 or as-is".into(),
+            })
+    }
+
+    /// The unit a channel name states, e.g. `accel_g`, `acc_m_s2`, `a [m/s²]`, `z (in/s^2)`.
+    pub fn from_name(name: &str) -> Option<Unit> {
+        let n = name.trim().to_ascii_lowercase();
+        let bracketed = [('[', ']'), ('(', ')')].iter().find_map(|&(open, close)| {
+            let inner = n.strip_suffix(close)?;
+            let start = inner.rfind(open)?;
+            Unit::parse(&inner[start + 1..]).ok()
+        });
+        if let Some(u) = bracketed.filter(|u| *u != Unit::AsIs) {
+            Some(u)
+        } else if n.ends_with("_g") || n == "g" {
+            Some(Unit::G)
+        } else if ["m/s2", "m/s^2", "m/s²", "_m_s2", "_ms2", "mps2"]
+            .iter()
+            .any(|s| n.ends_with(s))
+        {
+            Some(Unit::MPerS2)
+        } else {
+            None
+        }
+    }
+
+    /// The unit as the JSON and a re-read label write it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Unit::G => "g",
+            Unit::MPerS2 => "m/s2",
+            Unit::MilliG => "mg",
+            Unit::MmPerS2 => "mm/s2",
+            Unit::InPerS2 => "in/s2",
+            Unit::FtPerS2 => "ft/s2",
+            Unit::AsIs => "as-is",
+        }
+    }
+
+    /// Factor from this unit to the unit the analysis reports (g for accelerations; the inch
+    /// and foot are exactly 0.0254 m and 0.3048 m).
+    pub fn to_report_factor(self) -> f64 {
+        let g = crate::units::G;
+        match self {
+            Unit::MPerS2 => 1.0 / g,
+            Unit::MilliG => 1e-3,
+            Unit::MmPerS2 => 1e-3 / g,
+            Unit::InPerS2 => 0.0254 / g,
+            Unit::FtPerS2 => 0.3048 / g,
+            Unit::G | Unit::AsIs => 1.0,
+        }
+    }
+
+    /// Unit of the values after conversion.
+    pub fn reported(self) -> &'static str {
+        match self {
+            Unit::AsIs => "as-is",
+            _ => "g",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Unit;
+
+    /// Spellings seen in LabVIEW, UFF, catman and spreadsheet exports, each to its unit.
+    #[test]
+    fn acceleration_units_are_read_as_labs_write_them() {
+        let cases = [
+            ("g", Unit::G),
+            ("gn", Unit::G),
+            ("m/s^2", Unit::MPerS2),
+            ("m/s²", Unit::MPerS2),
+            ("m s^-2", Unit::MPerS2),
+            ("m·s⁻²", Unit::MPerS2),
+            ("m/s**2", Unit::MPerS2),
+            ("m/sec^2", Unit::MPerS2),
+            ("m/s/s", Unit::MPerS2),
+            ("mg", Unit::MilliG),
+            ("mm/s²", Unit::MmPerS2),
+            ("in/s^2", Unit::InPerS2),
+            ("ft/sec²", Unit::FtPerS2),
+            ("none", Unit::AsIs),
+        ];
+        for (text, unit) in cases {
+            assert_eq!(Unit::parse(text).ok(), Some(unit), "{text}");
+        }
+        assert!(Unit::parse("N").is_err());
+        assert!(Unit::parse("Deg C").is_err());
+    }
+
+    /// A unit in brackets at the end of a name states the channel's unit; a bare `_g` too.
+    #[test]
+    fn a_name_states_its_unit_in_brackets_or_a_suffix() {
+        assert_eq!(Unit::from_name("z (in/s^2)"), Some(Unit::InPerS2));
+        assert_eq!(Unit::from_name("Acc 3 [mg]"), Some(Unit::MilliG));
+        assert_eq!(Unit::from_name("accel_g"), Some(Unit::G));
+        assert_eq!(Unit::from_name("acc_m_s2"), Some(Unit::MPerS2));
+        assert_eq!(Unit::from_name("Force (N)"), None);
+        assert_eq!(Unit::from_name("weight_mg"), None);
+    }
+
+    /// To g: 1 g = 9.80665 m/s² (standard gravity, ISO 80000-3), 1 in = 0.0254 m and
+    /// 1 ft = 0.3048 m exactly (international yard and pound, 1959).
+    #[test]
+    fn every_acceleration_unit_converts_to_g() {
+        let g = 9.80665;
+        let cases = [
+            (Unit::G, 1.0),
+            (Unit::MilliG, 1e-3),
+            (Unit::MPerS2, 1.0 / g),
+            (Unit::MmPerS2, 1e-3 / g),
+            (Unit::InPerS2, 0.0254 / g),
+            (Unit::FtPerS2, 0.3048 / g),
+        ];
+        for (unit, factor) in cases {
+            assert!(
+                (unit.to_report_factor() - factor).abs() <= 1e-15 * factor,
+                "{unit:?}"
+            );
+            assert_eq!(unit.reported(), "g");
+            assert_eq!(Unit::parse(unit.label()).ok(), Some(unit));
+        }
+        assert_eq!(Unit::AsIs.reported(), "as-is");
+    }
+}
