@@ -230,6 +230,62 @@ fn lvm_channels_of_a_slower_rate_are_named_not_read() {
     );
 }
 
+/// A LabVIEW file written block by block: short_new_line_end.lvm's segment twice. The second
+/// segment continues the first (10 samples at Delta_X 3.90625e-5 s = 3.90625e-4 s later) by
+/// its header clock with X0 reset to 0, or by its X0 with the same clock: one 20-sample record,
+/// the first segment's values then the second's. A second segment 1 s late, or with other
+/// columns, is refused at its header line (line 35).
+#[test]
+fn lvm_segments_that_continue_one_another_are_one_record() {
+    let text = std::fs::read_to_string(repo_path(
+        "data/realdata/dialects/lvm_read/short_new_line_end.lvm",
+    ))
+    .unwrap();
+    let text = format!("{}\n", text.trim_end());
+    let cut = text.find("***End_of_Header***\t\n").unwrap() + "***End_of_Header***\t\n".len();
+    let (file_header, segment) = text.split_at(cut);
+    let dir = crate::common::temp_dir("formats-lvm-segments");
+    let read = |name: &str, second: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, format!("{file_header}{segment}{second}")).unwrap();
+        read_log(&p, &IngestOptions::default()).map_err(|e| e.to_string())
+    };
+    let clock = "09:51:40,7271890640258789063";
+    let by_clock = segment.replace(clock, "09:51:40,7275796890258789063");
+    let zero = "X0\t0,0000000000000000E+0\t0,0000000000000000E+0";
+    let by_x0 = segment.replace(zero, "X0\t3,9062500000000000E-4\t3,9062500000000000E-4");
+    let single = read("one.lvm", "").unwrap();
+    for (name, second) in [("clock.lvm", &by_clock), ("x0.lvm", &by_x0)] {
+        let log = read(name, second).unwrap();
+        assert_eq!(log.info.samples, 20, "{name}");
+        assert_eq!(log.info.fs_hz, 25600.0);
+        let twice: Vec<f64> = single.data[0]
+            .iter()
+            .chain(&single.data[0])
+            .copied()
+            .collect();
+        assert_eq!(log.data[0], twice, "{name}");
+        assert!(
+            log.info
+                .ingest
+                .notes
+                .iter()
+                .any(|n| n.contains("2 segments joined"))
+        );
+    }
+    let late = segment.replace(clock, "09:51:41,7271890640258789063");
+    let e = read("gap.lvm", &late).unwrap_err();
+    assert!(
+        e.contains("line 35")
+            && e.contains("segment 2 does not start where segment 1 ends")
+            && e.contains("by the header clock +0.999609 s"),
+        "{e}"
+    );
+    let other = segment.replace("Response (Trigger)", "Response 2");
+    let e = read("other.lvm", &other).unwrap_err();
+    assert!(e.contains("line 35") && e.contains("other columns"), "{e}");
+}
+
 /// The 4-sample LabVIEW file from the command line: `srs` reads it at the rate of its header
 /// (Delta_X 0.000250 s = 4000 Hz) and names its channels; `psd` refuses it, since no Welch
 /// segment of the 16-sample minimum fits in 4 samples, naming the count.

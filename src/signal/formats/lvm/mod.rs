@@ -5,7 +5,9 @@
 //! Hand-written: no Rust crate reads LVM. The header fields say everything: `Separator` (Tab or
 //! Comma), `Decimal_Separator` (`.` when missing), `X_Columns` (`No`: an X column left empty;
 //! `One`: one X column; `Multi`: one X column before each channel), and per channel `Samples`,
-//! `Y_Unit_Label` and `Delta_X`. One segment per file is read; a second segment is refused.
+//! `Y_Unit_Label` and `Delta_X`. Segments that continue one another are joined (`segments`).
+
+mod segments;
 
 use super::table::{Rate, Series, Table};
 use crate::error::SignalError;
@@ -61,33 +63,20 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
         )
     })?;
     let layout = file_layout(path, &lines[..file_end])?;
-    let seg_end = find_end(&lines, file_end + 1).ok_or_else(|| {
-        err(
-            path,
-            lines.len(),
-            format!("no `{END_OF_HEADER}` closes the segment header"),
-        )
-    })?;
-    let fields =
-        |l: &str| -> Vec<String> { l.split(layout.sep).map(|f| f.trim().to_string()).collect() };
-    let segment: Vec<Vec<String>> = lines[file_end + 1..seg_end]
-        .iter()
-        .map(|l| fields(l))
-        .collect();
-    let names_line = seg_end + 1;
-    let names = lines.get(names_line).map(|l| fields(l)).ok_or_else(|| {
-        err(
-            path,
-            names_line + 1,
-            "no line of column names after the segment header",
-        )
-    })?;
+    let segments = segments::read_segments(path, &lines, file_end + 1, &layout)?;
+    let count = segments.len();
+    let segments::Segment {
+        header: segment,
+        names,
+        names_line,
+        rows,
+        ..
+    } = segments::join(path, segments, &layout)?;
     let columns = channel_columns(&names, layout.x);
     let per_channel = |key: &str| segment_field(&segment, key, layout.x);
     let samples = per_channel("Samples");
     let units = per_channel("Y_Unit_Label");
     let delta = per_channel("Delta_X");
-    let rows = data_rows(path, &lines, names_line + 1, &layout, names.len())?;
     let mut table = Table {
         format: "lvm",
         delimiter: if layout.sep == '\t' { "tab" } else { "comma" },
@@ -97,11 +86,16 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
         ignored: Vec::new(),
         unreadable: Vec::new(),
         notes: vec![format!(
-            "{}: LabVIEW .lvm, X columns {:?}, {} data rows from line {}",
+            "{}: LabVIEW .lvm, X columns {:?}, {} data rows from line {}{}",
             path.display(),
             layout.x,
             rows.len(),
-            names_line + 2
+            names_line + 1,
+            if count > 1 {
+                format!(", {count} segments joined (each starts where the one before ends)")
+            } else {
+                String::new()
+            }
         )],
     };
     let mut found = Vec::new();
@@ -274,56 +268,6 @@ fn number(cell: &str, decimal_comma: bool) -> Option<f64> {
 }
 
 type Row = (usize, Vec<Option<f64>>);
-
-/// The rows from `start` to the end: each cell a number or empty. A second segment header
-/// (`Channels`, `***End_of_Header***`) is refused.
-fn data_rows(
-    path: &Path,
-    lines: &[&str],
-    start: usize,
-    l: &Layout,
-    width: usize,
-) -> Result<Vec<Row>, SignalError> {
-    let mut rows = Vec::new();
-    for (i, line) in lines.iter().enumerate().skip(start) {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let cells: Vec<&str> = line.split(l.sep).map(str::trim).collect();
-        if cells[0] == "Channels" || cells[0] == END_OF_HEADER || cells[0] == "LabVIEW Measurement"
-        {
-            return Err(err(
-                path,
-                i + 1,
-                "a second segment starts here: only single-segment LVM files are read; save one segment per file",
-            ));
-        }
-        let mut row = Vec::with_capacity(width);
-        for (c, cell) in cells.iter().enumerate().take(width) {
-            if cell.is_empty() {
-                row.push(None);
-            } else if let Some(v) = number(cell, l.decimal_comma) {
-                row.push(Some(v));
-            } else if c + 1 == width && !cell.is_empty() {
-                // The trailing Comment column holds text.
-                row.push(None);
-            } else {
-                return Err(err(
-                    path,
-                    i + 1,
-                    format!("column {}: cannot parse number `{cell}`", c + 1),
-                ));
-            }
-        }
-        rows.push((i + 1, row));
-    }
-    if rows.is_empty() {
-        return Err(SignalError::HeaderOnly {
-            file: path.to_path_buf(),
-        });
-    }
-    Ok(rows)
-}
 
 /// A channel column as found: its cells (empty ones `None`) and its `Delta_X`.
 struct Found {
