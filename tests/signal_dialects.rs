@@ -3,7 +3,7 @@
 //! reference values are analytic: RMS = 2/√2 and fs = 1000 Hz. Values are written with 9
 //! decimals, so the RMS must match to 1e-6 relative and the rate to 1e-9 relative.
 
-use satqual::signal::ingest::{IngestOptions, TimeUnit, read_csv};
+use satqual::signal::ingest::{IngestOptions, TimeUnit, Unit, read_csv};
 use std::path::PathBuf;
 
 const FS: f64 = 1000.0;
@@ -376,4 +376,27 @@ fn a_bad_first_row_is_reported_not_taken_for_a_header_or_units_row() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("line 2"), "{err}");
+}
+
+/// An HBM catman-style ASCII export: a preamble, a numbered time channel
+/// (`Time  1 - default sample rate`) and a units row in milli-g and in/s² (2 g written as
+/// 2000 mg and as 2·9.80665/0.0254 in/s²): both read back as 2 g amplitude, RMS 2/√2 g.
+#[test]
+fn catman_export_with_a_numbered_time_channel_and_units_row_in_mg_and_in_s2() {
+    let mut text = String::from("File: C:\\data\\run1.bin\nCreated: 27.11.2026 10:00:00\n\n");
+    text.push_str("Time  1 - default sample rate\tAcc X\tAcc Y\ns\tmg\tin/s^2\n");
+    for i in 0..N {
+        let (t, a) = (i as f64 / FS, sample(i));
+        text.push_str(&format!(
+            "{t:.9}\t{:.9}\t{:.9}\n",
+            a * 1e3,
+            a * 9.80665 / 0.0254
+        ));
+    }
+    let p = write("catman.txt", &text);
+    let log = check(&p, &IngestOptions::default(), "Acc X");
+    let y = log.channel("Acc Y").unwrap();
+    let want = 2.0 / 2f64.sqrt();
+    assert!((rms(y) - want).abs() < want * 1e-6, "rms {}", rms(y));
+    assert_eq!(log.info.channels[1].unit, Unit::InPerS2);
 }

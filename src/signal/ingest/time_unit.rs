@@ -61,8 +61,8 @@ impl TimeUnit {
     }
 }
 
-/// Words that name a time column.
-const TIME_WORDS: [&str; 10] = [
+/// Words that name a time column (`zeit`: German exports, catman's and Dewesoft's included).
+const TIME_WORDS: [&str; 11] = [
     "t",
     "time",
     "times",
@@ -73,6 +73,7 @@ const TIME_WORDS: [&str; 10] = [
     "epoch",
     "elapsed",
     "elapsed_time",
+    "zeit",
 ];
 
 /// `Some(unit)` for a time column: `Some(Some(u))` when the name states the unit (`time_ms`,
@@ -95,7 +96,34 @@ pub fn time_column_unit(name: &str) -> Option<Option<TimeUnit>> {
         let stated = matches!(base, "seconds" | "sec").then_some(TimeUnit::S);
         return Some(stated);
     }
+    if let Some((first, rest)) = base.split_once(' ')
+        && TIME_WORDS.contains(&first)
+        && rest.trim_start().starts_with(|c: char| c.is_ascii_digit())
+    {
+        // A numbered time channel, as HBM catman names it: `Time  1 - default sample rate`.
+        return Some(None);
+    }
     let (stem, suffix) = base.rsplit_once(['_', ' '])?;
     let unit = TimeUnit::from_word(suffix)?;
     TIME_WORDS.contains(&stem).then_some(Some(unit))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{TimeUnit, time_column_unit};
+
+    #[test]
+    fn time_columns_are_named_as_exports_name_them() {
+        assert_eq!(time_column_unit("Time [s]"), Some(Some(TimeUnit::S)));
+        assert_eq!(time_column_unit("time_ms"), Some(Some(TimeUnit::Ms)));
+        assert_eq!(time_column_unit("Zeit [ms]"), Some(Some(TimeUnit::Ms)));
+        assert_eq!(
+            time_column_unit("Time  1 - default sample rate"),
+            Some(None)
+        );
+        assert_eq!(time_column_unit("Time 2"), Some(None));
+        assert_eq!(time_column_unit("timestamp"), Some(None));
+        assert_eq!(time_column_unit("Time of flight"), None);
+        assert_eq!(time_column_unit("Acc X"), None);
+    }
 }
