@@ -90,22 +90,25 @@ pub fn time_column_unit(name: &str) -> Option<Option<TimeUnit>> {
     let base = base.trim();
     if let Some(b) = bracket {
         let unit = TimeUnit::from_word(b)?;
-        return TIME_WORDS.contains(&base).then_some(Some(unit));
+        return (TIME_WORDS.contains(&base) || numbered_time(base)).then_some(Some(unit));
     }
     if TIME_WORDS.contains(&base) {
         let stated = matches!(base, "seconds" | "sec").then_some(TimeUnit::S);
         return Some(stated);
     }
-    if let Some((first, rest)) = base.split_once(' ')
-        && TIME_WORDS.contains(&first)
-        && rest.trim_start().starts_with(|c: char| c.is_ascii_digit())
-    {
-        // A numbered time channel, as HBM catman names it: `Time  1 - default sample rate`.
+    if numbered_time(base) {
         return Some(None);
     }
     let (stem, suffix) = base.rsplit_once(['_', ' '])?;
     let unit = TimeUnit::from_word(suffix)?;
     TIME_WORDS.contains(&stem).then_some(Some(unit))
+}
+
+/// A numbered time channel, as HBM catman names it: `time  1 - default sample rate`.
+fn numbered_time(base: &str) -> bool {
+    base.split_once(' ').is_some_and(|(first, rest)| {
+        TIME_WORDS.contains(&first) && rest.trim_start().starts_with(|c: char| c.is_ascii_digit())
+    })
 }
 
 #[cfg(test)]
@@ -122,6 +125,10 @@ mod tests {
             Some(None)
         );
         assert_eq!(time_column_unit("Time 2"), Some(None));
+        assert_eq!(
+            time_column_unit("Time  1 - default sample rate [s]"),
+            Some(Some(TimeUnit::S))
+        );
         assert_eq!(time_column_unit("timestamp"), Some(None));
         assert_eq!(time_column_unit("Time of flight"), None);
         assert_eq!(time_column_unit("Acc X"), None);
