@@ -400,3 +400,40 @@ fn catman_export_with_a_numbered_time_channel_and_units_row_in_mg_and_in_s2() {
     assert!((rms(y) - want).abs() < want * 1e-6, "rms {}", rms(y));
     assert_eq!(log.info.channels[1].unit, Unit::InPerS2);
 }
+
+/// A log without a time column whose preamble states the rate (`Sample rate: 1000 Hz`): read
+/// at that rate with a note naming the line; `--fs` that disagrees by more than 0.1% is an
+/// error naming both rates, as against a time column; `--fs-override` uses `--fs`.
+#[test]
+fn a_rate_stated_in_the_preamble_is_the_logs_rate() {
+    let mut text = String::from("Operator: test\nSample rate: 1000 Hz\nacc_g\n");
+    for i in 0..N {
+        text.push_str(&format!("{:.9}\n", sample(i)));
+    }
+    let p = write("preamble-rate.csv", &text);
+    let log = check(&p, &IngestOptions::default(), "acc_g");
+    assert!(
+        log.info
+            .ingest
+            .notes
+            .iter()
+            .any(|n| n.contains("sampling rate 1000 Hz read from line 2")),
+        "{:?}",
+        log.info.ingest.notes
+    );
+    let opts = IngestOptions {
+        fs: Some(2000.0),
+        ..IngestOptions::default()
+    };
+    let e = read_csv(&p, &opts).unwrap_err().to_string();
+    assert!(
+        e.contains("--fs 2000 Hz disagrees with the 1000 Hz that line 2"),
+        "{e}"
+    );
+    let opts = IngestOptions {
+        fs: Some(2000.0),
+        fs_override: true,
+        ..IngestOptions::default()
+    };
+    assert_eq!(read_csv(&p, &opts).unwrap().info.fs_hz, 2000.0);
+}

@@ -17,6 +17,7 @@
 pub mod bandlimit;
 pub mod iso8601;
 mod plausible_rate;
+mod preamble_rate;
 pub mod sniff;
 mod time_unit;
 mod timing;
@@ -446,6 +447,7 @@ fn plain_dialect(path: &Path, head: &[u8]) -> Result<Dialect, SignalError> {
         empty_columns: Vec::new(),
         metadata_columns: Vec::new(),
         first_row: Vec::new(),
+        preamble_rate: None,
     })
 }
 
@@ -640,7 +642,30 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
             }
         }
     }
-    let selected = select_columns(file, &header, time_col, &ignored, opts)?;
+    if let Some((hz, line)) = d.preamble_rate
+        && fs_from_metadata.is_none()
+        && time_col.is_none()
+    {
+        match opts.fs {
+            None => {
+                fs_from_metadata = Some(hz);
+                notes.push(format!("sampling rate {hz} Hz read from line {line}"));
+            }
+            Some(fs) if !opts.fs_override && (fs - hz).abs() > 1e-3 * fs => {
+                return Err(SignalError::BadParameter {
+                    name: "fs",
+                    value: fs.to_string(),
+                    reason: format!(
+                        "--fs {fs} Hz disagrees with the {hz} Hz that line {line} of {} states (more than 0.1%); drop --fs, or pass --fs-override to use --fs",
+                        file.display()
+                    ),
+                });
+            }
+            Some(_) => {}
+        }
+    }
+    let rate_stated = fs_from_metadata.is_some() || is_rate_column_present(&header, &ignored);
+    let selected = select_columns(file, &header, time_col, &ignored, rate_stated, opts)?;
     let channels = channel_infos(&header, &selected, d, opts);
     let record = IngestRecord {
         delimiter: d.delimiter.name(),
@@ -718,6 +743,7 @@ fn select_columns(
     header: &[String],
     time_col: Option<usize>,
     ignored: &[usize],
+    rate_stated: bool,
     opts: &IngestOptions,
 ) -> Result<Vec<usize>, SignalError> {
     let usable = |i: usize| Some(i) != time_col && !ignored.contains(&i) && !header[i].is_empty();
@@ -762,7 +788,7 @@ fn select_columns(
             ),
         });
     }
-    if time_col.is_none() && opts.fs.is_none() && !is_rate_column_present(header, ignored) {
+    if time_col.is_none() && opts.fs.is_none() && !rate_stated {
         return Err(SignalError::NoSamplingRate {
             file: file.to_path_buf(),
         });

@@ -64,6 +64,8 @@ pub struct Dialect {
     pub width: usize,
     /// First data row's fields (for checks on the time column).
     pub first_row: Vec<String>,
+    /// A sampling rate stated above the header (`Sample rate: 2048 Hz`): Hz and its line.
+    pub preamble_rate: Option<(f64, u64)>,
 }
 
 fn is_comment(line: &str) -> bool {
@@ -223,6 +225,10 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
         .filter(|f| f.len() == width)
         .collect();
     let (empty_columns, metadata_columns) = column_use(&rows, width, dec);
+    let preamble_end = header_idx.unwrap_or(data_idx);
+    let preamble_rate = (0..preamble_end).find_map(|i| {
+        super::preamble_rate::rate_of_line(lines[i].1, dec).map(|hz| (hz, i as u64 + 1))
+    });
     Some(Dialect {
         delimiter,
         decimal_comma: dec,
@@ -236,6 +242,7 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
         metadata_columns,
         width,
         first_row: rows.first().cloned().unwrap_or_default(),
+        preamble_rate,
     })
 }
 
@@ -275,7 +282,10 @@ fn header_above(
     };
     if above.len() >= 2 {
         let prev = above[above.len() - 2];
+        // A preamble line stating the rate (`Sample rate: 1000 Hz`) is never the header.
+        let states_rate = super::preamble_rate::rate_of_line(lines[prev].1, dec).is_some();
         if prev + 1 == last
+            && !states_rate
             && let Some(upper) = fits(prev)
             && looks_like_units(&lower)
         {
