@@ -74,9 +74,6 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
     } = segments::join(path, segments, &layout)?;
     let columns = channel_columns(&names, layout.x);
     let per_channel = |key: &str| segment_field(&segment, key, layout.x);
-    let samples = per_channel("Samples");
-    let units = per_channel("Y_Unit_Label");
-    let delta = per_channel("Delta_X");
     let mut table = Table {
         format: "lvm",
         delimiter: if layout.sep == '\t' { "tab" } else { "comma" },
@@ -98,12 +95,44 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
             }
         )],
     };
+    let fields = ChannelFields {
+        samples: per_channel("Samples"),
+        units: per_channel("Y_Unit_Label"),
+        delta: per_channel("Delta_X"),
+    };
+    let log_dt = read_channels(&mut table, &columns, &rows, &fields, &layout);
+    if names.last().is_some_and(|n| n == "Comment") {
+        table.ignored.push("`Comment` (text)".into());
+    }
+    table.rate = rate(&rows, log_dt, &layout);
+    if let Some(note) = rounded_delta_x_note(path, &table.rate, &fields.delta, log_dt, &layout) {
+        table.notes.push(note);
+    }
+    Ok(table)
+}
+
+/// A segment header's per-channel fields.
+struct ChannelFields {
+    samples: Vec<String>,
+    units: Vec<String>,
+    delta: Vec<String>,
+}
+
+/// Reads every channel column into `table`: the full ones at the log's interval as series,
+/// the others as unreadable with their reason. Returns the log's interval.
+fn read_channels(
+    table: &mut Table,
+    columns: &[(usize, String)],
+    rows: &[Row],
+    fields: &ChannelFields,
+    layout: &Layout,
+) -> Option<f64> {
     let mut found = Vec::new();
-    for (k, &(col, ref name)) in columns.iter().enumerate() {
-        let declared_empty = samples.get(k).is_some_and(|s| s == "0");
+    for (k, (col, name)) in columns.iter().enumerate() {
+        let declared_empty = fields.samples.get(k).is_some_and(|s| s == "0");
         let values: Vec<Option<f64>> = rows
             .iter()
-            .map(|(_, r)| r.get(col).copied().flatten())
+            .map(|(_, r)| r.get(*col).copied().flatten())
             .collect();
         if declared_empty || values.iter().all(Option::is_none) {
             table.ignored.push(format!("`{name}` (empty throughout)"));
@@ -111,14 +140,17 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
         }
         found.push(Found {
             name: name.clone(),
-            unit_label: units.get(k).cloned().unwrap_or_default(),
-            dt: delta.get(k).and_then(|d| number(d, layout.decimal_comma)),
+            unit_label: fields.units.get(k).cloned().unwrap_or_default(),
+            dt: fields
+                .delta
+                .get(k)
+                .and_then(|d| number(d, layout.decimal_comma)),
             values,
         });
     }
     let log_dt = log_interval(&found);
     for f in found {
-        match readable(&f, &rows, log_dt) {
+        match readable(&f, rows, log_dt) {
             Ok(values) => table.series.push(Series {
                 name: f.name,
                 unit_label: f.unit_label,
@@ -127,24 +159,31 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
             Err(why) => table.unreadable.push((f.name, why)),
         }
     }
-    if names.last().is_some_and(|n| n == "Comment") {
-        table.ignored.push("`Comment` (text)".into());
-    }
-    table.rate = rate(&rows, log_dt, &layout);
-    if let Rate::Stated(fs, _) = table.rate
-        && let Some(text) = delta
-            .iter()
-            .find(|d| number(d, layout.decimal_comma) == log_dt)
-        && let Some(rel) = rounding_of(text, 1.0 / fs)
-        && rel > DELTA_X_ROUNDING_NOTE
-    {
-        table.notes.push(format!(
+    log_dt
+}
+
+/// A note when the rate comes from a `Delta_X` written to too few digits to state it.
+fn rounded_delta_x_note(
+    path: &Path,
+    rate: &Rate,
+    delta: &[String],
+    log_dt: Option<f64>,
+    layout: &Layout,
+) -> Option<String> {
+    let Rate::Stated(fs, _) = *rate else {
+        return None;
+    };
+    let text = delta
+        .iter()
+        .find(|d| number(d, layout.decimal_comma) == log_dt)?;
+    let rel = rounding_of(text, 1.0 / fs)?;
+    (rel > DELTA_X_ROUNDING_NOTE).then(|| {
+        format!(
             "{}: Delta_X `{text}` is written to few digits: the rate {fs:.3} Hz is known to ±{:.2}%; pass --fs F --fs-override if the acquisition rate is known",
             path.display(),
             rel * 100.0
-        ));
-    }
-    Ok(table)
+        )
+    })
 }
 
 /// Relative rounding of a written `Delta_X` above which the rate it gives is noted as uncertain
