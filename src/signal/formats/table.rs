@@ -4,12 +4,10 @@
 
 use crate::error::SignalError;
 use crate::signal::ingest::{
-    ChannelInfo, IngestOptions, IngestRecord, Log, LogInfo, TimeUnit, Unit, UnitSource,
+    ChannelInfo, FS_AGREEMENT, IngestOptions, IngestRecord, Log, LogInfo, TimeUnit, Unit,
+    UnitSource,
 };
 use std::path::Path;
-
-/// Largest relative departure between `--fs` and the rate the file states before it is an error.
-const FS_AGREEMENT: f64 = 1e-3;
 
 /// One data column as a format reader found it.
 #[derive(Debug, Clone, PartialEq)]

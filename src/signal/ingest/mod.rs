@@ -30,7 +30,7 @@ use sniff::{Delimiter, Dialect};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 pub use time_unit::{TimeUnit, time_column_unit};
-pub use timing::{JITTER_LIMIT, JitterReport};
+pub use timing::{FS_AGREEMENT, JITTER_LIMIT, JitterReport};
 use timing::{Timing, TimingOutcome};
 pub use unit::Unit;
 
@@ -651,13 +651,14 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
                 fs_from_metadata = Some(hz);
                 notes.push(format!("sampling rate {hz} Hz read from line {line}"));
             }
-            Some(fs) if !opts.fs_override && (fs - hz).abs() > 1e-3 * fs => {
+            Some(fs) if !opts.fs_override && (fs - hz).abs() > FS_AGREEMENT * fs => {
                 return Err(SignalError::BadParameter {
                     name: "fs",
                     value: fs.to_string(),
                     reason: format!(
-                        "--fs {fs} Hz disagrees with the {hz} Hz that line {line} of {} states (more than 0.1%); drop --fs, or pass --fs-override to use --fs",
-                        file.display()
+                        "--fs {fs} Hz disagrees with the {hz} Hz that line {line} of {} states (more than {}%); drop --fs, or pass --fs-override to use --fs",
+                        file.display(),
+                        FS_AGREEMENT * 100.0
                     ),
                 });
             }

@@ -17,8 +17,9 @@ use std::path::PathBuf;
 /// odd step at the start of the log.
 const PRIME_ROWS: usize = 33;
 
-/// Largest relative difference between `--fs` and the rate of the time column.
-const FS_AGREEMENT: f64 = 1e-3;
+/// Largest relative difference between `--fs` and a rate the log states (its time column, a
+/// header field, a preamble line) before it is an error.
+pub const FS_AGREEMENT: f64 = 1e-3;
 
 /// Largest step, in sampling intervals, that `resample` bridges by interpolation.
 const MAX_RESAMPLE_GAP: f64 = 100.0;

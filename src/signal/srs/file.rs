@@ -132,7 +132,7 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
     let mut out = Vec::new();
     let mut fs = None;
     let names = crate::signal::uff::channel_names(&records);
-    for (r, name) in records.iter().zip(names) {
+    for (r, name) in records.iter().zip(names.iter().cloned()) {
         if ingest.channels.as_ref().is_some_and(|l| !l.contains(&name)) {
             continue;
         }
@@ -155,12 +155,7 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
         let k = unit.to_report_factor();
         out.push((name, unit, r.re.iter().map(|v| v * k).collect()));
     }
-    check_uff_selection(
-        path,
-        ingest,
-        &out,
-        &crate::signal::uff::channel_names(&records),
-    )?;
+    check_uff_selection(path, ingest, &out, &names)?;
     let fs = fs.ok_or_else(|| SignalError::HeaderOnly {
         file: path.to_path_buf(),
     })?;

@@ -11,6 +11,7 @@ mod segments;
 
 use super::table::{Rate, Series, Table};
 use crate::error::SignalError;
+use crate::signal::ingest::sniff::number;
 use std::path::Path;
 
 const END_OF_HEADER: &str = "***End_of_Header***";
@@ -295,15 +296,6 @@ fn segment_field(segment: &[Vec<String>], key: &str, x: XColumns) -> Vec<String>
     };
     let step = if x == XColumns::Multi { 2 } else { 1 };
     row.iter().skip(1).step_by(step).cloned().collect()
-}
-
-fn number(cell: &str, decimal_comma: bool) -> Option<f64> {
-    let v: f64 = if decimal_comma {
-        cell.replace(',', ".").parse().ok()?
-    } else {
-        cell.parse().ok()?
-    };
-    v.is_finite().then_some(v)
 }
 
 type Row = (usize, Vec<Option<f64>>);
