@@ -50,6 +50,7 @@ mod param_sweep;
 mod correlate;
 mod damping;
 mod ema;
+mod ema_measured;
 mod signal_bands;
 mod signal_dialects;
 mod signal_formats;

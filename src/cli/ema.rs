@@ -8,25 +8,31 @@
 use super::log_args::{LogArgs, WelchArgs};
 use super::{Outcome, Printer};
 use satqual::Error;
-use satqual::pipeline::workflows::{self, ema::EmaRequest};
+use satqual::pipeline::workflows::{
+    self,
+    ema::{EmaRequest, FrfSource},
+};
 use satqual::report::stabilization_svg::{StabilizationPlot, render};
 use satqual::report::svg_plot::{self, Plot, Series};
 use satqual::report::write_atomic;
 use satqual::signal::PeakOptions;
+use satqual::signal::ema::measured::Layout;
 use satqual::signal::ema::{Criteria, EmaModel, EmaOptions, FrfForm, FrfSet, Method, Stability};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// One or more CSV logs; their segments are averaged together.
+    /// One or more logs, their segments averaged together; or UFF files of measured FRFs
+    /// (function type 4), fitted as they are.
     #[arg(required = true)]
     pub logs: Vec<PathBuf>,
-    /// Input (reference) channel: the force or the drive.
+    /// Input (reference) channel: the force or the drive. With measured FRFs, the reference
+    /// point (`1:+Z`), needed only when the files hold several.
     #[arg(long)]
-    pub input: String,
-    /// Response channels, comma-separated.
-    #[arg(long, value_delimiter = ',', required = true)]
+    pub input: Option<String>,
+    /// Response channels, comma-separated. With measured FRFs, the FRFs to fit (default all).
+    #[arg(long, value_delimiter = ',')]
     pub output: Vec<String>,
     /// Band fitted, Hz (default: every line above 0 Hz).
     #[arg(long)]
@@ -42,9 +48,10 @@ pub struct Args {
     /// Distinct orders at which a pole must be stable to be selected.
     #[arg(long, default_value_t = 5)]
     pub min_stable: usize,
-    /// What the response measures per unit force: accelerance, mobility or receptance.
-    #[arg(long, default_value = "accelerance")]
-    pub frf_form: String,
+    /// What the response measures per unit force: accelerance (default), mobility or
+    /// receptance. Measured FRFs that state their form are fitted in it.
+    #[arg(long)]
+    pub frf_form: Option<String>,
     /// Peak method: resonances kept and their smallest prominence on Σ|H|, dB.
     #[arg(long, default_value_t = 10)]
     pub peaks: usize,
@@ -78,10 +85,10 @@ fn options(args: &Args) -> Result<EmaOptions, Error> {
             )));
         }
     };
-    let form = FrfForm::parse(&args.frf_form).ok_or_else(|| {
+    let form_text = args.frf_form.as_deref().unwrap_or("accelerance");
+    let form = FrfForm::parse(form_text).ok_or_else(|| {
         Error::Other(format!(
-            "--frf-form `{}`: expected accelerance, mobility or receptance",
-            args.frf_form
+            "--frf-form `{form_text}`: expected accelerance, mobility or receptance"
         ))
     })?;
     if args.min_stable == 0 {
@@ -112,15 +119,16 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let opts = options(&args)?;
     let run = workflows::ema::run(&EmaRequest {
         logs: &args.logs,
-        input: &args.input,
+        input: args.input.as_deref(),
         outputs: &args.output,
         ingest,
         welch: wopts,
         welch_is_default: args.welch.all_default(),
         options: opts.clone(),
+        form_is_given: args.frf_form.is_some(),
     })?;
-    let (m, h) = (&run.model, &run.frfs[0]);
-    let mut human = vec![summary_line(&args, m, h.fs, h.segments)];
+    let m = &run.model;
+    let mut human = vec![summary_line(&args, &run)];
     for (i, mode) in m.modes.iter().enumerate() {
         human.push(format!(
             "  mode {}: {:10.3} Hz  ζ {:.5}  MPC {:.3}  MPD {:.1}°",
@@ -137,7 +145,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         human.push(format!("  wrote {}", path.display()));
     }
     if let Some(scene) = &args.write_damping {
-        write_damping(scene, m, &args)?;
+        write_damping(scene, &run, &args)?;
         human.push(format!(
             "  wrote the damping of {} mode(s) into {} [damping].table",
             m.modes.len(),
@@ -145,48 +153,61 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         ));
     }
     if let Some(dir) = &args.out {
-        write_figures(dir, m, &args.input)?;
+        write_figures(dir, m, &run.input)?;
         human.push(format!(
             "  wrote {}/stabilization.svg, reconstruction.svg",
             dir.display()
         ));
     }
     p.human(&human.join("\n"));
-    let sources = (h.fs, h.df, m.band_hz(), &m.modes);
+    // Checked before serde_json turns a NaN into null.
+    let sources = (m.band_hz(), &m.modes, line_spacing(&run.set.freqs));
     satqual::output_check::check_sources(&sources, "ema JSON output")?;
     p.json(&result_json(&args, &opts, &run))?;
     Ok(Outcome::Pass)
 }
 
-fn summary_line(args: &Args, m: &EmaModel, fs: f64, segments: usize) -> String {
+fn summary_line(args: &Args, run: &workflows::ema::EmaRun) -> String {
+    let m = &run.model;
     let (lo, hi) = m.band_hz();
+    let source = match &run.source {
+        FrfSource::Estimated { frfs, .. } => format!(
+            "{} log(s), fs {:.6} Hz, {} segments averaged",
+            args.logs.len(),
+            frfs[0].fs,
+            frfs[0].segments
+        ),
+        FrfSource::Measured(x) => format!(
+            "{} measured FRF(s), unit {}, {}",
+            x.records.len(),
+            x.unit,
+            match x.layout {
+                Layout::CommonReference => "one reference, roving responses",
+                Layout::CommonResponse => "one response, roving reference",
+            }
+        ),
+    };
     format!(
-        "{} log(s), fs {fs:.6} Hz, {segments} segments averaged; {} output(s) / {}; {} in {lo:.3}–{hi:.3} Hz: {} mode(s)",
-        args.logs.len(),
-        args.output.len(),
-        args.input,
+        "{source}; {} output(s) / {}; {} ({}) in {lo:.3}–{hi:.3} Hz: {} mode(s)",
+        run.set.channels.len(),
+        run.input,
         args.method,
+        run.form.name(),
         m.modes.len()
     )
 }
 
 fn result_json(args: &Args, opts: &EmaOptions, run: &workflows::ema::EmaRun) -> serde_json::Value {
-    let (m, h, w) = (&run.model, &run.frfs[0], &run.welch);
+    let m = &run.model;
     let (lo, hi) = m.band_hz();
     let count = |s: Stability| m.diagram.iter().filter(|p| p.stability == s).count();
     let c = &opts.criteria;
-    json!({
+    let mut v = json!({
         "files": args.logs,
-        "input": args.input,
-        "outputs": args.output,
-        "fs_hz": h.fs,
-        "nperseg": h.nperseg,
-        "window": w.window.name(),
-        "segments": h.segments,
-        "impact_windows": run.impact_windows,
-        "frequency_resolution_hz": h.df,
+        "input": run.input,
+        "outputs": run.set.channels,
         "method": m.method,
-        "frf_form": opts.form,
+        "frf_form": run.form,
         "band_hz": [lo, hi],
         "lines": m.freqs.len(),
         "orders": m.orders,
@@ -202,12 +223,54 @@ fn result_json(args: &Args, opts: &EmaOptions, run: &workflows::ema::EmaRun) -> 
         },
         "modes": m.modes,
         "notes": m.notes,
-    })
+    });
+    let extra = match &run.source {
+        FrfSource::Estimated {
+            frfs,
+            welch,
+            impact_windows,
+        } => json!({
+            "fs_hz": frfs[0].fs,
+            "nperseg": frfs[0].nperseg,
+            "window": welch.window.name(),
+            "segments": frfs[0].segments,
+            "impact_windows": impact_windows,
+            "frequency_resolution_hz": frfs[0].df,
+            "measured_frfs": null,
+        }),
+        FrfSource::Measured(x) => json!({
+            "fs_hz": null,
+            "nperseg": null,
+            "window": null,
+            "segments": null,
+            "impact_windows": null,
+            "frequency_resolution_hz": line_spacing(&run.set.freqs),
+            "measured_frfs": {
+                "layout": x.layout,
+                "common_point": x.common_point,
+                "unit": x.unit,
+                "records": x.records,
+            },
+        }),
+    };
+    if let (Some(o), serde_json::Value::Object(e)) = (v.as_object_mut(), extra) {
+        o.extend(e);
+    }
+    v
+}
+
+/// The spacing of the frequency lines (their span over their count).
+fn line_spacing(freqs: &[f64]) -> Option<f64> {
+    match (freqs.first(), freqs.last()) {
+        (Some(a), Some(b)) if freqs.len() > 1 => Some((b - a) / (freqs.len() - 1) as f64),
+        _ => None,
+    }
 }
 
 /// The identified ratios into `scene`'s `[damping]`; the edited scene must load before it
 /// replaces the file.
-fn write_damping(scene: &Path, m: &EmaModel, args: &Args) -> Result<(), Error> {
+fn write_damping(scene: &Path, run: &workflows::ema::EmaRun, args: &Args) -> Result<(), Error> {
+    let m = &run.model;
     use satqual::spec::damping_edit::{IdentifiedDamping, with_identified_damping};
     let text = std::fs::read_to_string(scene).map_err(|e| Error::io(scene, e))?;
     let logs: Vec<String> = args
@@ -230,8 +293,8 @@ fn write_damping(scene: &Path, m: &EmaModel, args: &Args) -> Result<(), Error> {
             source: format!(
                 "satqual ema --method {} ({} / {}, {}): mode {} at {:.4} Hz, zeta {:.6}, MPC {:.3}",
                 args.method,
-                args.output.join(","),
-                args.input,
+                run.set.channels.join(","),
+                run.input,
                 logs.join(" "),
                 i + 1,
                 x.frequency_hz,

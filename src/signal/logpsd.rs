@@ -225,7 +225,12 @@ fn psd_of_uff(
         return Err(SignalError::Unsupported {
             file: path.to_path_buf(),
             message: format!(
-                "UFF58 function types {kinds:?}: expected all time histories (1) or all PSDs (9)"
+                "UFF58 function types {kinds:?}: expected all time histories (1) or all PSDs (9){}",
+                if kinds.contains(&4) {
+                    " (FRFs, type 4, are fitted by `satqual ema FILE`)"
+                } else {
+                    ""
+                }
             ),
         });
     }

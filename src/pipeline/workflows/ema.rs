@@ -4,7 +4,8 @@
 
 use super::frf::{Estimate, estimate};
 use crate::error::Error;
-use crate::signal::ema::{EmaModel, EmaOptions, FrfSet, Mode, identify};
+use crate::signal::ema::measured::{MeasuredFrfs, read_measured_frfs};
+use crate::signal::ema::{EmaModel, EmaOptions, FrfForm, FrfSet, Mode, identify};
 use crate::signal::frf::read_frf_logs;
 use crate::signal::impact_windows::{ImpactWindows, corrected_pole};
 use crate::signal::{Frf, IngestOptions, WelchOptions};
@@ -12,7 +13,10 @@ use std::path::PathBuf;
 
 pub struct EmaRequest<'a> {
     pub logs: &'a [PathBuf],
-    pub input: &'a str,
+    /// The force or drive channel of time logs; the reference point of measured FRFs (needed
+    /// only when the files hold several).
+    pub input: Option<&'a str>,
+    /// Response channels of time logs; the FRFs to fit of measured ones (all when empty).
     pub outputs: &'a [String],
     pub ingest: IngestOptions,
     pub welch: WelchOptions,
@@ -20,20 +24,43 @@ pub struct EmaRequest<'a> {
     /// replaces them with the impact options, as in the `frf` workflow.
     pub welch_is_default: bool,
     pub options: EmaOptions,
+    /// `options.form` was given by the user rather than defaulted: measured FRFs that state
+    /// another form are then refused.
+    pub form_is_given: bool,
+}
+
+/// Where the FRFs came from.
+pub enum FrfSource {
+    /// H1 estimated from time logs.
+    Estimated {
+        /// The spectra of each output, in the order of `outputs`.
+        frfs: Vec<Frf>,
+        /// The Welch options used (the impact options when an impact was detected).
+        welch: WelchOptions,
+        /// The windows of the impact analysis, when it was one.
+        impact_windows: Option<ImpactWindows>,
+    },
+    /// FRFs read from UFF files as the acquisition system stored them.
+    Measured(Box<MeasuredFrfs>),
 }
 
 pub struct EmaRun {
-    /// The spectra of each output, in the order of `outputs`.
-    pub frfs: Vec<Frf>,
+    pub source: FrfSource,
     pub set: FrfSet,
     pub model: EmaModel,
-    /// The Welch options used (the impact options when an impact was detected).
-    pub welch: WelchOptions,
-    /// The windows of the impact analysis, when it was one.
-    pub impact_windows: Option<ImpactWindows>,
+    /// The form fitted (the measured FRFs' own when they state it).
+    pub form: FrfForm,
+    /// The input named in reports: the force channel, or the measured FRFs' common point.
+    pub input: String,
 }
 
 pub fn run(req: &EmaRequest) -> Result<EmaRun, Error> {
+    if let Some(measured) = read_measured_frfs(req.logs, req.input, req.outputs)? {
+        return run_measured(req, measured);
+    }
+    let input = req.input.ok_or_else(|| {
+        Error::Other("--input: name the force (or drive) channel of the logs".into())
+    })?;
     if req.outputs.is_empty() {
         return Err(Error::Other(
             "--output: name at least one response channel".into(),
@@ -42,7 +69,7 @@ pub fn run(req: &EmaRequest) -> Result<EmaRun, Error> {
     let logs: Vec<_> = req
         .outputs
         .iter()
-        .map(|o| read_frf_logs(req.logs, req.input, o, &req.ingest))
+        .map(|o| read_frf_logs(req.logs, input, o, &req.ingest))
         .collect::<Result<_, _>>()?;
     let mut notes = Vec::new();
     let Estimate {
@@ -50,13 +77,7 @@ pub fn run(req: &EmaRequest) -> Result<EmaRun, Error> {
         welch,
         windows,
         ..
-    } = estimate(
-        &logs,
-        req.input,
-        &req.welch,
-        req.welch_is_default,
-        &mut notes,
-    )?;
+    } = estimate(&logs, input, &req.welch, req.welch_is_default, &mut notes)?;
     let set = FrfSet {
         freqs: frfs[0].frequencies(),
         channels: req.outputs.to_vec(),
@@ -69,11 +90,53 @@ pub fn run(req: &EmaRequest) -> Result<EmaRun, Error> {
     notes.append(&mut model.notes);
     model.notes = notes;
     Ok(EmaRun {
-        frfs,
+        source: FrfSource::Estimated {
+            frfs,
+            welch,
+            impact_windows: windows,
+        },
         set,
         model,
-        welch,
-        impact_windows: windows,
+        form: req.options.form,
+        input: input.to_string(),
+    })
+}
+
+/// Fits FRFs read from files, in the form they state (a given `--frf-form` must agree).
+fn run_measured(req: &EmaRequest, mut measured: MeasuredFrfs) -> Result<EmaRun, Error> {
+    let mut options = req.options.clone();
+    match measured.form {
+        Some(form) if req.form_is_given && form != options.form => {
+            return Err(Error::Other(format!(
+                "--frf-form {}: the file's FRFs are {} (record 9's data type); leave                  --frf-form out or give that form",
+                options.form.name(),
+                form.name()
+            )));
+        }
+        Some(form) => options.form = form,
+        None => measured.notes.push(format!(
+            "the file does not say what its FRFs measure (record 9 data type 0): fitted as {}              (--frf-form)",
+            options.form.name()
+        )),
+    }
+    let set = std::mem::replace(
+        &mut measured.set,
+        FrfSet {
+            freqs: Vec::new(),
+            channels: Vec::new(),
+            h: Vec::new(),
+        },
+    );
+    let mut model = identify(&set, &options)?;
+    let mut notes = std::mem::take(&mut measured.notes);
+    notes.append(&mut model.notes);
+    model.notes = notes;
+    Ok(EmaRun {
+        input: measured.common_point.clone(),
+        source: FrfSource::Measured(Box::new(measured)),
+        set,
+        model,
+        form: options.form,
     })
 }
 

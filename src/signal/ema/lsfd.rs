@@ -35,6 +35,15 @@ impl FrfForm {
         }
     }
 
+    /// The form as `--frf-form` spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrfForm::Receptance => "receptance",
+            FrfForm::Mobility => "mobility",
+            FrfForm::Accelerance => "accelerance",
+        }
+    }
+
     fn factor(self, w: f64) -> Complex64 {
         let jw = Complex64::new(0.0, w);
         match self {

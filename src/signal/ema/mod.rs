@@ -15,6 +15,7 @@
 pub mod indicators;
 pub mod lscf;
 pub mod lsfd;
+pub mod measured;
 pub mod stabilization;
 
 pub use lsfd::FrfForm;

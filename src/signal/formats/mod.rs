@@ -63,6 +63,27 @@ pub fn read_log(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
     }
 }
 
+/// A UFF file with no time history to read, with the command that reads what it holds.
+fn no_time_history(path: &Path, records: &[crate::signal::uff::UffRecord]) -> SignalError {
+    let has = |t: i64| records.iter().any(|r| r.function.function_type == t);
+    let hint = if has(4) {
+        ": it holds FRFs (function type 4), which `satqual ema FILE` fits as measured"
+    } else if has(9) {
+        ": it holds PSDs (function type 9), which `satqual psd FILE` reads"
+    } else {
+        ""
+    };
+    let mut types: Vec<i64> = records.iter().map(|r| r.function.function_type).collect();
+    types.dedup();
+    SignalError::Unsupported {
+        file: path.to_path_buf(),
+        message: format!(
+            "no real, evenly spaced time history (UFF58 function type 1) among its records \
+             (function types {types:?}){hint}"
+        ),
+    }
+}
+
 /// The time histories (function type 1, real, evenly spaced) of a UFF file as columns; their
 /// unit is the record's units field.
 fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
@@ -102,6 +123,9 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
                 r.line
             )),
         }
+    }
+    if series.is_empty() {
+        return Err(no_time_history(path, &file.records));
     }
     Ok(Table {
         format: "uff",

@@ -477,15 +477,15 @@ pub fn channel_names(records: &[UffRecord]) -> Vec<String> {
 
 /// `node:direction` of a record's response (`12:+Z`, `4:-RX`; the node alone for a scalar).
 fn point_label(r6: &Record6) -> String {
+    point(r6.response_node, r6.response_direction)
+}
+
+/// `node:direction` of a point with its UFF direction code (1..6 = ±X, Y, Z, RX, RY, RZ).
+pub fn point(node: i64, direction: i64) -> String {
     const AXES: [&str; 6] = ["X", "Y", "Z", "RX", "RY", "RZ"];
-    let d = r6.response_direction;
-    match AXES.get((d.unsigned_abs() as usize).wrapping_sub(1)) {
-        Some(axis) => format!(
-            "{}:{}{axis}",
-            r6.response_node,
-            if d < 0 { "-" } else { "+" }
-        ),
-        None => r6.response_node.to_string(),
+    match AXES.get((direction.unsigned_abs() as usize).wrapping_sub(1)) {
+        Some(axis) => format!("{node}:{}{axis}", if direction < 0 { "-" } else { "+" }),
+        None => node.to_string(),
     }
 }
 

@@ -1,0 +1,415 @@
+//! FRFs measured and exported by a modal acquisition system (UFF58 records of function type 4,
+//! complex, on frequency lines): `ema` fits them as they are, instead of estimating FRFs from
+//! time histories. A roving test holds one FRF per point: either one reference and roving
+//! responses (a shaker, a fixed hammer point) or one response and a roving hammer, whose shapes
+//! are read at the hit points by reciprocity.
+
+use super::{FrfForm, FrfSet};
+use crate::error::SignalError;
+use crate::signal::ingest::Unit;
+use crate::signal::uff::{self, UffRecord};
+use realfft::num_complex::Complex64;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// UFF58 function type of a frequency response function (record 6, field 1).
+const FUNCTION_FRF: i64 = 4;
+/// UFF58 abscissa data type of a time axis (record 8): an FRF on it is not a spectrum.
+const DATA_TYPE_TIME: i64 = 17;
+/// Frequency lines of two records agree to this fraction of the highest line.
+const LINES_AGREE: f64 = 1e-9;
+/// Pound-force in newtons (exact by definition: 0.45359237 kg × 9.80665 m/s²).
+const LBF_IN_N: f64 = 4.448_221_615_260_5;
+
+/// Which end of the FRFs stays put over the test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Layout {
+    /// One reference (shaker, fixed hammer point), roving responses: shapes at the responses.
+    CommonReference,
+    /// One response (a fixed accelerometer), roving hammer: shapes at the hit points.
+    CommonResponse,
+}
+
+/// Where an FRF of the set was read.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrfRecordSource {
+    pub channel: String,
+    pub file: PathBuf,
+    /// Line of the record's `58` marker.
+    pub line: u64,
+}
+
+/// FRFs read from files, ready for [`super::identify`].
+#[derive(Debug, Clone)]
+pub struct MeasuredFrfs {
+    pub set: FrfSet,
+    /// What the FRFs measure per unit force, from the ordinate's data type (record 9); `None`
+    /// when the file does not say.
+    pub form: Option<FrfForm>,
+    pub layout: Layout,
+    /// The point every FRF shares (`1:+Z`, with its entity when the file names it).
+    pub common_point: String,
+    /// The FRFs' unit (`g/N` when converted; the file's label, or `as stored`).
+    pub unit: String,
+    pub records: Vec<FrfRecordSource>,
+    pub notes: Vec<String>,
+}
+
+/// One FRF record and the file it came from.
+struct Found {
+    file: PathBuf,
+    record: UffRecord,
+}
+
+impl Found {
+    fn err(&self, message: impl Into<String>) -> SignalError {
+        SignalError::Uff {
+            file: self.file.clone(),
+            line: self.record.line,
+            message: message.into(),
+        }
+    }
+
+    fn reference(&self) -> String {
+        let f = &self.record.function;
+        labelled(&f.reference_entity, f.reference_node, f.reference_direction)
+    }
+
+    fn response(&self) -> String {
+        let f = &self.record.function;
+        labelled(&f.response_entity, f.response_node, f.response_direction)
+    }
+}
+
+fn labelled(entity: &str, node: i64, direction: i64) -> String {
+    let p = uff::point(node, direction);
+    if entity.is_empty() {
+        p
+    } else {
+        format!("{entity}:{p}")
+    }
+}
+
+/// The measured FRFs of `paths` when they are UFF files holding FRF records; `None` when none
+/// does (time histories, from which FRFs are estimated). `input` picks the reference when the
+/// files hold several; `outputs` picks FRFs by name (all when empty).
+pub fn read_measured_frfs(
+    paths: &[PathBuf],
+    input: Option<&str>,
+    outputs: &[String],
+) -> Result<Option<MeasuredFrfs>, SignalError> {
+    let (found, others) = frf_records(paths)?;
+    if found.is_empty() {
+        return Ok(None);
+    }
+    if let Some(p) = paths.iter().find(|p| !uff::looks_like_uff(p)) {
+        return Err(SignalError::Unsupported {
+            file: p.clone(),
+            message: "FRFs read from UFF files cannot be averaged with time histories: give \
+                      either the UFF files or the logs"
+                .into(),
+        });
+    }
+    let (layout, common_point, chosen) = choose(found, input)?;
+    let named = select(name(chosen, layout)?, outputs)?;
+    let freqs = common_lines(&named)?;
+    let form = common_form(&named)?;
+    let (unit, scales, mut notes) = common_unit(&named)?;
+    notes.insert(0, measured_note(&named, layout, &common_point));
+    if others > 0 {
+        notes.push(format!(
+            "{others} UFF58 record(s) of other function types (time histories, spectra, \
+             coherence) left out: only the FRFs (function type 4) are fitted"
+        ));
+    }
+    let set = FrfSet {
+        freqs,
+        channels: named.iter().map(|(n, _)| n.clone()).collect(),
+        h: named
+            .iter()
+            .zip(&scales)
+            .map(|((_, f), s)| complex_values(&f.record, *s))
+            .collect(),
+    };
+    let records = named
+        .iter()
+        .map(|(n, f)| FrfRecordSource {
+            channel: n.clone(),
+            file: f.file.clone(),
+            line: f.record.line,
+        })
+        .collect();
+    Ok(Some(MeasuredFrfs {
+        set,
+        form,
+        layout,
+        common_point,
+        unit,
+        records,
+        notes,
+    }))
+}
+
+/// Every FRF record of the UFF files among `paths`, and the count of their other records.
+fn frf_records(paths: &[PathBuf]) -> Result<(Vec<Found>, usize), SignalError> {
+    let mut found = Vec::new();
+    let mut others = 0;
+    for p in paths.iter().filter(|p| uff::looks_like_uff(p)) {
+        for record in uff::read_uff(p)?.records {
+            if record.function.function_type == FUNCTION_FRF {
+                found.push(Found {
+                    file: p.clone(),
+                    record,
+                });
+            } else {
+                others += 1;
+            }
+        }
+    }
+    Ok((found, others))
+}
+
+/// The FRFs of one reference (named by `input`, or the only one), else of one response (a
+/// roving hammer); anything else needs `--input`.
+fn choose(
+    found: Vec<Found>,
+    input: Option<&str>,
+) -> Result<(Layout, String, Vec<Found>), SignalError> {
+    let refs = distinct(found.iter().map(Found::reference));
+    if let Some(want) = input {
+        let hit = |f: &Found| {
+            let r = f.record.function.clone();
+            let short = uff::point(r.reference_node, r.reference_direction);
+            f.reference().eq_ignore_ascii_case(want) || short.eq_ignore_ascii_case(want)
+        };
+        let chosen: Vec<Found> = found.into_iter().filter(hit).collect();
+        let Some(first) = chosen.first() else {
+            return Err(SignalError::BadParameter {
+                name: "input",
+                value: want.to_string(),
+                reason: format!(
+                    "no FRF in the file has this reference; its references: {}",
+                    refs.join(", ")
+                ),
+            });
+        };
+        let point = first.reference();
+        return Ok((Layout::CommonReference, point, chosen));
+    }
+    if refs.len() == 1 {
+        return Ok((Layout::CommonReference, refs[0].clone(), found));
+    }
+    let responses = distinct(found.iter().map(Found::response));
+    if responses.len() == 1 {
+        return Ok((Layout::CommonResponse, responses[0].clone(), found));
+    }
+    Err(found[0].err(format!(
+        "the FRFs have {} references ({}) and {} responses: name the reference with --input",
+        refs.len(),
+        refs.join(", "),
+        responses.len()
+    )))
+}
+
+fn distinct(items: impl Iterator<Item = String>) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for i in items {
+        if !out.contains(&i) {
+            out.push(i);
+        }
+    }
+    out
+}
+
+/// Each FRF named by the point that roves: the response's channel name (ID line 4) when it is
+/// unique, else the response point; the hit point of a roving hammer. Two FRFs of one point are
+/// refused: which one to fit is the user's choice.
+fn name(chosen: Vec<Found>, layout: Layout) -> Result<Vec<(String, Found)>, SignalError> {
+    let ids: Vec<String> = chosen.iter().map(|f| f.record.id4.clone()).collect();
+    let unique_id = |id: &String| !id.is_empty() && ids.iter().filter(|i| *i == id).count() == 1;
+    let mut named: Vec<(String, Found)> = Vec::new();
+    for f in chosen {
+        let n = match layout {
+            Layout::CommonResponse => f.reference(),
+            Layout::CommonReference if unique_id(&f.record.id4) => f.record.id4.clone(),
+            Layout::CommonReference => f.response(),
+        };
+        if let Some((_, g)) = named.iter().find(|(m, _)| *m == n) {
+            return Err(f.err(format!(
+                "a second FRF of `{n}` (the first at {} line {}): keep one of them",
+                g.file.display(),
+                g.record.line
+            )));
+        }
+        named.push((n, f));
+    }
+    Ok(named)
+}
+
+/// The FRFs `outputs` names, in that order; all of them when it is empty.
+fn select(
+    named: Vec<(String, Found)>,
+    outputs: &[String],
+) -> Result<Vec<(String, Found)>, SignalError> {
+    if outputs.is_empty() {
+        return Ok(named);
+    }
+    let available = named
+        .iter()
+        .map(|(n, _)| n.as_str())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut pool: Vec<Option<(String, Found)>> = named.into_iter().map(Some).collect();
+    outputs
+        .iter()
+        .map(|o| {
+            let slot = pool
+                .iter_mut()
+                .find(|s| s.as_ref().is_some_and(|(n, _)| n == o));
+            slot.and_then(Option::take)
+                .ok_or_else(|| SignalError::BadParameter {
+                    name: "output",
+                    value: o.clone(),
+                    reason: format!("no such FRF (or named twice); the FRFs: {available}"),
+                })
+        })
+        .collect()
+}
+
+/// The frequency lines every FRF shares; each must be complex and on a frequency axis.
+fn common_lines(named: &[(String, Found)]) -> Result<Vec<f64>, SignalError> {
+    let (first_name, first) = &named[0];
+    let lines = &first.record.abscissa;
+    let top = lines.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+    for (n, f) in named {
+        let r = &f.record;
+        if !r.is_complex() {
+            return Err(f.err(format!(
+                "FRF `{n}` holds real values (ordinate type {}): an FRF is complex (type 5 or 6)",
+                r.ordinate_type
+            )));
+        }
+        if r.abscissa_axis.data_type == DATA_TYPE_TIME {
+            return Err(f.err(format!(
+                "FRF `{n}` is on a time axis (record 8 data type 17): expected frequency lines"
+            )));
+        }
+        let same = r.abscissa.len() == lines.len()
+            && r.abscissa
+                .iter()
+                .zip(lines)
+                .all(|(a, b)| (a - b).abs() <= LINES_AGREE * top);
+        if !same {
+            return Err(f.err(format!(
+                "FRF `{n}` is on other frequency lines than `{first_name}` ({}): {} against {}",
+                first.record.line,
+                span(&r.abscissa),
+                span(lines)
+            )));
+        }
+    }
+    Ok(lines.clone())
+}
+
+fn span(lines: &[f64]) -> String {
+    match (lines.first(), lines.last()) {
+        (Some(a), Some(b)) => format!("{} lines, {a}–{b} Hz", lines.len()),
+        _ => "no lines".into(),
+    }
+}
+
+/// What the FRFs measure, from record 9's data type (8 displacement, 11 velocity, 12
+/// acceleration); they must agree.
+fn common_form(named: &[(String, Found)]) -> Result<Option<FrfForm>, SignalError> {
+    let form_of = |f: &Found| match f.record.ordinate_axis.data_type {
+        8 => Some(FrfForm::Receptance),
+        11 => Some(FrfForm::Mobility),
+        12 => Some(FrfForm::Accelerance),
+        _ => None,
+    };
+    let first = form_of(&named[0].1);
+    match named.iter().find(|(_, f)| form_of(f) != first) {
+        Some((n, f)) => Err(f.err(format!(
+            "FRF `{n}` measures {:?} per force, `{}` {:?}: one fit needs one kind",
+            form_of(f),
+            named[0].0,
+            first
+        ))),
+        None => Ok(first),
+    }
+}
+
+/// The unit of the FRFs and each one's factor to it: the file's own when every record states
+/// the same, else g/N from each record's acceleration and force units.
+fn common_unit(named: &[(String, Found)]) -> Result<(String, Vec<f64>, Vec<String>), SignalError> {
+    let label = |f: &Found| {
+        let r = &f.record;
+        (
+            r.ordinate_axis.unit.clone(),
+            r.denominator_axis.unit.clone(),
+        )
+    };
+    let first = label(&named[0].1);
+    if named.iter().all(|(_, f)| label(f) == first) {
+        let unit = match first {
+            (o, d) if o.is_empty() && d.is_empty() => "as stored".to_string(),
+            (o, d) => format!("{o}/{d}"),
+        };
+        return Ok((unit, vec![1.0; named.len()], Vec::new()));
+    }
+    let scales = named
+        .iter()
+        .map(|(n, f)| {
+            let (o, d) = label(f);
+            to_g_per_newton(&o, &d).ok_or_else(|| {
+                f.err(format!(
+                    "FRF `{n}` is in {o}/{d}, others in other units, and {o}/{d} is not an \
+                     acceleration per force satqual converts (g, m/s2, mg, in/s2 per N, kN, lbf)"
+                ))
+            })
+        })
+        .collect::<Result<Vec<f64>, _>>()?;
+    let note = "the FRFs are stored in different units: converted to g/N".to_string();
+    Ok(("g/N".into(), scales, vec![note]))
+}
+
+fn to_g_per_newton(ordinate: &str, denominator: &str) -> Option<f64> {
+    let acc = Unit::parse(ordinate).ok().filter(|u| *u != Unit::AsIs)?;
+    let newtons = match denominator.trim().to_ascii_lowercase().as_str() {
+        "n" => 1.0,
+        "kn" => 1e3,
+        "lbf" | "lb" => LBF_IN_N,
+        _ => return None,
+    };
+    Some(acc.to_report_factor() / newtons)
+}
+
+fn complex_values(r: &UffRecord, scale: f64) -> Vec<Complex64> {
+    r.re.iter()
+        .zip(&r.im)
+        .map(|(a, b)| Complex64::new(a * scale, b * scale))
+        .collect()
+}
+
+fn measured_note(named: &[(String, Found)], layout: Layout, common: &str) -> String {
+    let files = distinct(named.iter().map(|(_, f)| file_name(&f.file)));
+    let shared = match layout {
+        Layout::CommonReference => format!("reference {common}"),
+        Layout::CommonResponse => format!(
+            "response {common}, roving reference: the shapes are read at the reference \
+             points (reciprocity)"
+        ),
+    };
+    format!(
+        "{} measured FRF(s) from {} ({shared}), fitted as stored: a window the acquisition \
+         applied (an exponential one adds damping) is in them, and UFF58 does not record it",
+        named.len(),
+        files.join(", ")
+    )
+}
+
+fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+}

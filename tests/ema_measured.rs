@@ -1,0 +1,202 @@
+//! `ema` on FRFs measured and exported by an acquisition system (UFF58 function type 4):
+//! a roving-hammer file from pyuff's test data against sdypy-EMA reading it with pyuff, the
+//! analytic 3-DOF written as a UFF, and the refusals.
+
+use crate::common::{rel, run_text, temp_dir};
+use satqual::catalogue::analytic::three_dof;
+use serde_json::Value;
+use std::path::PathBuf;
+
+const MEASUREMENT: &str = "data/realdata/dialects/pyuff/measurement.uff";
+
+fn ema_json(args: &[&str]) -> Value {
+    let mut all = vec!["ema"];
+    all.extend_from_slice(args);
+    all.push("--json");
+    let (code, out, err) = run_text(&all, None);
+    assert_eq!(code, 0, "{err}");
+    serde_json::from_str(&out).unwrap()
+}
+
+fn ema_error(args: &[&str]) -> String {
+    let mut all = vec!["ema"];
+    all.extend_from_slice(args);
+    let (code, _, err) = run_text(&all, None);
+    assert_eq!(code, 2, "{err}");
+    err
+}
+
+#[test]
+fn measured_frfs_of_a_roving_hammer_match_sdypy_pole_for_pole() {
+    // Reference: data/ema-refs/pyuff-measurement-sdypy.json, `same_order`: sdypy-EMA 0.31.0's
+    // LSCF on the same FRFs read by pyuff 2.5.8 (made by data/ema-refs/sdypy_lscf.py --uff),
+    // its pole of the order satqual chose, nearest in frequency. Measured: frequency 3e-14,
+    // damping 1.4e-10 (two readers of the same digits, the same normal equations); the
+    // tolerances, 1e-9 and 1e-6, leave the order-60 normal equations' rounding room.
+    let v = ema_json(&[MEASUREMENT, "--fmin", "1", "--fmax", "999"]);
+    let m = &v["measured_frfs"];
+    assert_eq!(m["layout"], "common_response");
+    assert_eq!(m["common_point"], "TestCase:1:+X");
+    assert_eq!(
+        v["outputs"],
+        serde_json::json!(["TestCase:1:+X", "TestCase:2:+X", "TestCase:3:+X"])
+    );
+    assert_eq!(v["frf_form"], "accelerance", "record 9's data type 12");
+    assert_eq!(v["lines"], 999);
+    let text = std::fs::read_to_string("data/ema-refs/pyuff-measurement-sdypy.json").unwrap();
+    let refs: Value = serde_json::from_str(&text).unwrap();
+    let modes = v["modes"].as_array().unwrap();
+    let same = refs["same_order"].as_array().unwrap();
+    // The |H| peaks of the file (52, 142, 279, 460, 687, 959 Hz, read off its records) are the
+    // six modes: the comparison is not over an empty set.
+    assert_eq!(modes.len(), 6, "{modes:?}");
+    assert_eq!(same.len(), 6);
+    for (m, r) in modes.iter().zip(same) {
+        assert_eq!(m["order"], r["order"]);
+        let f = m["frequency_hz"].as_f64().unwrap();
+        let z = m["damping_ratio"].as_f64().unwrap();
+        assert!(
+            rel(f, r["frequency_hz"].as_f64().unwrap()) < 1e-9,
+            "{f} Hz: {r}"
+        );
+        assert!(
+            rel(z, r["damping_ratio"].as_f64().unwrap()) < 1e-6,
+            "ζ {z}: {r}"
+        );
+        assert_eq!(m["shape"].as_array().unwrap().len(), 3);
+    }
+    assert!(v["notes"][0].as_str().unwrap().contains("reciprocity"));
+}
+
+/// One FRF record (function type 4, complex double, acceleration over force) of response
+/// `node` +Z to reference `reference` +Z, its values in `unit` per newton.
+fn frf_record(id4: &str, node: i64, reference: i64, unit: &str, h: &[(f64, f64)]) -> String {
+    let mut s = format!("    -1\n    58\nFRF\nNONE\nNONE\n{id4}\nNONE\n");
+    s.push_str(&format!(
+        "    4         0    0         0 mass      {node:10}   3 mass      {reference:10}   3\n"
+    ));
+    s.push_str(&format!(
+        "         6{:10}         1 0.00000E+00 2.50000E-01 0.00000E+00\n",
+        h.len()
+    ));
+    s.push_str("        18    0    0    0 Frequency            Hz                  \n");
+    s.push_str(&format!(
+        "        12    0    0    0 Acceleration         {unit:<20}\n"
+    ));
+    s.push_str("        13    0    0    0 Force                N                   \n");
+    s.push_str("         0    0    0    0 NONE                 NONE                \n");
+    let values: Vec<f64> = h.iter().flat_map(|&(re, im)| [re, im]).collect();
+    for line in values.chunks(4) {
+        let cells: String = line.iter().map(|x| format!("{x:20.11E}")).collect();
+        s.push_str(&cells);
+        s.push('\n');
+    }
+    s.push_str("    -1\n");
+    s
+}
+
+/// The analytic 3-DOF's accelerances (0–200 Hz, 0.25 Hz lines, force at mass 1) as a UFF of
+/// three FRFs; mass 3's in g/N, the others in m/s2/N.
+fn three_dof_uff(dir: &std::path::Path) -> PathBuf {
+    let freqs: Vec<f64> = (0..=800).map(|k| k as f64 * 0.25).collect();
+    let h = three_dof().accelerance(&freqs);
+    let g = 9.80665;
+    let in_g: Vec<(f64, f64)> = h[2].iter().map(|&(a, b)| (a / g, b / g)).collect();
+    let text = frf_record("m1", 1, 1, "m/s2", &h[0])
+        + &frf_record("m2", 2, 1, "m/s2", &h[1])
+        + &frf_record("m3", 3, 1, "g", &in_g);
+    let p = dir.join("three_dof.uff");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn measured_frfs_of_the_analytic_three_dof_give_its_modes() {
+    // Reference: the analytic 3-DOF (catalogue::analytic::three_dof). The FRFs hold 12
+    // significant digits (E20.11); the tolerances are those of the same fit on the exact
+    // FRFs in tests/ema.rs (frequency 1e-7, damping 1e-5, MAC 1 - 1e-9). Mass 3's FRF is
+    // stored in g/N: converted to g/N with the others (1 g = 9.80665 m/s², ISO 80000-3), the
+    // shapes are the analytic ones.
+    let dir = temp_dir("ema-three-dof-uff");
+    let p = three_dof_uff(&dir);
+    let v = ema_json(&[p.to_str().unwrap(), "--fmin", "5", "--order-max", "40"]);
+    assert_eq!(v["measured_frfs"]["layout"], "common_reference");
+    assert_eq!(v["measured_frfs"]["unit"], "g/N");
+    assert_eq!(v["outputs"], serde_json::json!(["m1", "m2", "m3"]));
+    let sys = three_dof();
+    let modes = v["modes"].as_array().unwrap();
+    assert_eq!(modes.len(), 3, "{modes:?}");
+    for (r, m) in modes.iter().enumerate() {
+        let f = m["frequency_hz"].as_f64().unwrap();
+        let z = m["damping_ratio"].as_f64().unwrap();
+        assert!(rel(f, sys.frequencies_hz[r]) < 1e-7, "mode {r}: {f} Hz");
+        assert!(rel(z, sys.damping[r]) < 1e-5, "mode {r}: ζ {z}");
+        let shape: Vec<f64> = m["shape"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["re"].as_f64().unwrap())
+            .collect();
+        let want = sys.shapes[r];
+        let dot: f64 = shape.iter().zip(want).map(|(a, b)| a * b).sum();
+        let n2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
+        let mac = dot * dot / (n2(&shape) * n2(&want));
+        assert!(mac > 1.0 - 1e-9, "mode {r}: MAC {mac}");
+    }
+}
+
+#[test]
+fn measured_frfs_that_cannot_be_fitted_together_are_refused() {
+    let dir = temp_dir("ema-uff-refusals");
+    let p = three_dof_uff(&dir);
+    let path = p.to_str().unwrap();
+    let e = ema_error(&[path, "--frf-form", "mobility"]);
+    assert!(
+        e.contains("--frf-form mobility") && e.contains("accelerance"),
+        "{e}"
+    );
+    let e = ema_error(&[path, "--output", "m4"]);
+    assert!(e.contains("m4") && e.contains("m1, m2, m3"), "{e}");
+    let e = ema_error(&[path, "--input", "7:+Z"]);
+    assert!(e.contains("mass:1:+Z"), "the references are listed: {e}");
+    // Another reference and another response: which FRFs belong together is not the reader's
+    // guess; `--input` picks them.
+    let freqs: Vec<f64> = (0..=800).map(|k| k as f64 * 0.25).collect();
+    let h = three_dof().accelerance(&freqs);
+    let text = std::fs::read_to_string(&p).unwrap() + &frf_record("x", 4, 2, "m/s2", &h[0]);
+    let mixed = dir.join("mixed.uff");
+    std::fs::write(&mixed, text).unwrap();
+    let e = ema_error(&[mixed.to_str().unwrap()]);
+    assert!(
+        e.contains("line 2") && e.contains("2 references") && e.contains("--input"),
+        "{e}"
+    );
+    let v = ema_json(&[mixed.to_str().unwrap(), "--input", "1:+Z", "--fmin", "5"]);
+    assert_eq!(v["outputs"], serde_json::json!(["m1", "m2", "m3"]));
+    // A real-valued FRF and one on other lines are refused at their record's line.
+    // 8 complex points rewritten as 16 real doubles (ordinate type 4).
+    let real = frf_record("m1", 1, 1, "m/s2", &h[0][..8])
+        .replace("         6         8", "         4        16");
+    let cut = dir.join("real.uff");
+    std::fs::write(&cut, &real).unwrap();
+    let e = ema_error(&[cut.to_str().unwrap()]);
+    assert!(e.contains("line 2") && e.contains("real values"), "{e}");
+    let short = std::fs::read_to_string(&p).unwrap() + &frf_record("m9", 9, 1, "g", &h[0][..400]);
+    let other = dir.join("lines.uff");
+    std::fs::write(&other, short).unwrap();
+    let e = ema_error(&[other.to_str().unwrap()]);
+    assert!(
+        e.contains("other frequency lines") && e.contains("400 lines"),
+        "{e}"
+    );
+    // The commands that read time histories point measured FRFs to `ema`.
+    let (code, _, e) = run_text(&["frf", MEASUREMENT, "--input", "a", "--output", "b"], None);
+    assert!(code == 2 && e.contains("satqual ema FILE"), "{e}");
+    // Time logs still need their force channel.
+    let e = ema_error(&[
+        "data/realdata/pyfrf-impact/impact_1.csv",
+        "--output",
+        "acceleration",
+    ]);
+    assert!(e.contains("--input"), "{e}");
+}
