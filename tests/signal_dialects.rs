@@ -358,6 +358,32 @@ fn uff58_records_sharing_a_name_are_told_apart_by_their_point() {
     assert!((rms - want).abs() < want * 1e-5, "{rms}");
 }
 
+/// Two UFF time histories at 1000 and 2000 Hz: `srs` analyses one rate per run, so the second
+/// is refused at its line (it was analysed at the last record's rate); `--channels` picks one.
+#[test]
+fn srs_refuses_uff_records_of_two_rates() {
+    let slow = uff58("Acceleration", "g", 1.0);
+    let fast = slow
+        .replace("\nAcc 1\n", "\nAcc 2\n")
+        .replace("1.00000E-03 0.00000E+00", "5.00000E-04 0.00000E+00");
+    let p = write("two-rates.uff", &(slow.clone() + &fast));
+    let path = p.to_str().unwrap();
+    let (code, _, err) = crate::common::run_text(&["srs", path], None);
+    assert_eq!(code, 2, "{err}");
+    let second = slow.lines().count() + 2;
+    assert!(
+        err.contains(&format!("line {second}"))
+            && err.contains("2000 Hz")
+            && err.contains("1000 Hz"),
+        "{err}"
+    );
+    let (code, out, err) =
+        crate::common::run_text(&["srs", path, "--channels", "Acc 2", "--json"], None);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["fs_hz"], 2000.0);
+}
+
 #[test]
 fn a_bad_first_row_is_reported_not_taken_for_a_header_or_units_row() {
     let p = write(

@@ -130,7 +130,7 @@ fn read_records(
 fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records), SignalError> {
     let records = read_uff58(path)?;
     let mut out = Vec::new();
-    let mut fs = None;
+    let mut fs: Option<(f64, String)> = None;
     let names = crate::signal::uff::channel_names(&records);
     for (r, name) in records.iter().zip(names.iter().cloned()) {
         if ingest.channels.as_ref().is_some_and(|l| !l.contains(&name)) {
@@ -150,13 +150,24 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
         let step = r
             .uniform_step()
             .ok_or_else(|| uff_err("the abscissa is not evenly spaced".into()))?;
-        fs = Some(1.0 / step);
+        if let Some((first_fs, first_name)) = &fs
+            && (first_fs * step - 1.0).abs() > 1e-6
+        {
+            return Err(uff_err(format!(
+                "record `{name}` is sampled at {} Hz and `{first_name}` at {first_fs} Hz: one \
+                 run analyses one rate; name the channels of one rate with --channels",
+                1.0 / step
+            )));
+        }
+        if fs.is_none() {
+            fs = Some((1.0 / step, name.clone()));
+        }
         let unit = crate::signal::uff::ordinate_unit(&r.ordinate_label, ingest, &name);
         let k = unit.to_report_factor();
         out.push((name, unit, r.re.iter().map(|v| v * k).collect()));
     }
     check_uff_selection(path, ingest, &out, &names)?;
-    let fs = fs.ok_or_else(|| SignalError::HeaderOnly {
+    let (fs, _) = fs.ok_or_else(|| SignalError::HeaderOnly {
         file: path.to_path_buf(),
     })?;
     Ok((fs, out))
