@@ -480,3 +480,54 @@ fn modes_identified_from_a_log_correlate_with_the_model_that_made_it() {
     // With the tolerances above every gate holds, so the command exits 0.
     assert_eq!(code, 0, "{err}");
 }
+
+/// The analytic chain's accelerances (force at mass 1, 0–200 Hz at 0.25 Hz) stored as UFF FRFs
+/// named like the test points, with the scene reading them as `kind = "frf"`: the test modes are
+/// identified from the stored FRFs, no Welch step. References: the analytic frequencies (the
+/// FRFs hold 12 digits; tolerance 1e-6, against 0.5% for the random log above, which leakage
+/// limits) and MAC ≥ 1 − 1e-6 with the FE modes that reproduce the analytic ones.
+#[test]
+fn modes_identified_from_stored_frfs_correlate_with_the_model() {
+    use crate::common::frf_record;
+    let dir = temp_dir("correlate-stored-frfs");
+    let freqs: Vec<f64> = (0..=800).map(|k| k as f64 * 0.25).collect();
+    let h = satqual::catalogue::analytic::three_dof().accelerance(&freqs);
+    let uff: String = (0..3)
+        .map(|o| frf_record(&format!("a{}", o + 1), o as i64 + 1, 1, "m/s2", &h[o]))
+        .collect();
+    let file = dir.join("frfs.uff");
+    std::fs::write(&file, uff).unwrap();
+    let log_block = |control: &str| {
+        format!(
+            "[[test_log]]\nname = \"modal\"\nfile = {:?}\nkind = \"frf\"\ncontrol = \"{control}\"\n\n[correlation]\nlogs = [\"modal\"]\nfmin_hz = 5.0\nfmax_hz = 200.0\n",
+            file.to_str().unwrap()
+        )
+    };
+    let base = three_dof_scene("unused.csv");
+    let cut = base.find("[[test_log]]").unwrap();
+    let scene = dir.join("chain.toml");
+    std::fs::write(&scene, format!("{}{}", &base[..cut], log_block("1:+Z"))).unwrap();
+    let (code, out, err) = run_text(&["correlate", scene.to_str().unwrap(), "--json"], None);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let pairs = v["pairs"].as_array().unwrap();
+    assert_eq!(pairs.len(), 3, "{v}");
+    let analytic = satqual::catalogue::analytic::three_dof().frequencies_hz;
+    for (i, p) in pairs.iter().enumerate() {
+        let test_hz = p["test_hz"].as_f64().unwrap();
+        assert!((test_hz / analytic[i] - 1.0).abs() < 1e-6, "{p}");
+        assert!(p["mac"].as_f64().unwrap() >= 1.0 - 1e-6, "{p}");
+    }
+    // A control that is no point of the file is located at the log's control.
+    std::fs::write(&scene, format!("{}{}", &base[..cut], log_block("9:+Z"))).unwrap();
+    let (code, _, err) = run_text(&["correlate", scene.to_str().unwrap()], None);
+    assert!(
+        code == 2 && err.contains("test_log[0].control") && err.contains("mass:1:+Z"),
+        "{err}"
+    );
+    // Stored FRFs no correlation reads are refused at their kind.
+    let unread = log_block("1:+Z").replace("logs = [\"modal\"]", "logs = []");
+    std::fs::write(&scene, format!("{}{}", &base[..cut], unread)).unwrap();
+    let (code, _, err) = run_text(&["correlate", scene.to_str().unwrap()], None);
+    assert!(code == 2 && err.contains("test_log[0].kind"), "{err}");
+}

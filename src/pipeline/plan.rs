@@ -330,7 +330,7 @@ pub fn test_log(scene: &Scene, index: usize, t: &TestLogSpec) -> Result<TestLogP
         })?),
         _ => None,
     };
-    let frf = !matches!(t.kind, LogKind::Random | LogKind::Shock);
+    let frf = !matches!(t.kind, LogKind::Random | LogKind::Shock | LogKind::Frf);
     if frf && t.responses.is_empty() {
         let msg = "an FRF needs at least one response channel";
         return Err(loc.err(&key("responses"), msg).into());

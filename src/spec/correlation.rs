@@ -166,6 +166,36 @@ pub fn validate(file: &SceneFile, model: &SceneFile, loc: &Locator) -> Result<()
     if let Some(c) = &file.correlation {
         validate_correlation(c, file, loc)?;
     }
+    validate_frf_logs(file, loc)
+}
+
+/// Stored FRFs feed the correlation only: one named by no `[correlation] logs` would be read
+/// by nothing, and mixing them with time logs there would average FRFs with spectra.
+fn validate_frf_logs(file: &SceneFile, loc: &Locator) -> Result<(), SpecError> {
+    let named = |n: &String| {
+        file.correlation
+            .as_ref()
+            .is_some_and(|c| c.logs.contains(n))
+    };
+    let is_frf = |n: &String| {
+        file.test_log
+            .iter()
+            .any(|l| &l.name == n && l.kind == super::LogKind::Frf)
+    };
+    for (i, l) in file.test_log.iter().enumerate() {
+        if l.kind == super::LogKind::Frf && !named(&l.name) {
+            let msg =
+                "a log of stored FRFs is read by [correlation] only: name it in [correlation] logs";
+            return Err(loc.err(&format!("test_log[{i}].kind"), msg));
+        }
+    }
+    if let Some(c) = &file.correlation
+        && c.logs.iter().any(is_frf)
+        && !c.logs.iter().all(is_frf)
+    {
+        let msg = "stored FRFs (kind = \"frf\") cannot be averaged with the spectra of time logs: name one kind";
+        return Err(loc.err("correlation.logs", msg));
+    }
     Ok(())
 }
 

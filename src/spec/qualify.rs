@@ -65,6 +65,9 @@ pub enum LogKind {
     SignatureAfter,
     /// A shock record: its SRS against the scene's `[shock]` specification.
     Shock,
+    /// FRFs measured and stored by the acquisition (UFF58 function type 4): the test modes of
+    /// `[correlation]` and `update` are identified from them; no test-data gate reads them.
+    Frf,
 }
 
 /// One measured log handed over by the shaker lab.

@@ -157,3 +157,30 @@ macro_rules! refused_input_cases {
         )+
     };
 }
+
+/// One FRF record (function type 4, complex double, acceleration over force) of response
+/// `node` +Z to reference `reference` +Z, its values in `unit` per newton.
+pub fn frf_record(id4: &str, node: i64, reference: i64, unit: &str, h: &[(f64, f64)]) -> String {
+    let mut s = format!("    -1\n    58\nFRF\nNONE\nNONE\n{id4}\nNONE\n");
+    s.push_str(&format!(
+        "    4         0    0         0 mass      {node:10}   3 mass      {reference:10}   3\n"
+    ));
+    s.push_str(&format!(
+        "         6{:10}         1 0.00000E+00 2.50000E-01 0.00000E+00\n",
+        h.len()
+    ));
+    s.push_str("        18    0    0    0 Frequency            Hz                  \n");
+    s.push_str(&format!(
+        "        12    0    0    0 Acceleration         {unit:<20}\n"
+    ));
+    s.push_str("        13    0    0    0 Force                N                   \n");
+    s.push_str("         0    0    0    0 NONE                 NONE                \n");
+    let values: Vec<f64> = h.iter().flat_map(|&(re, im)| [re, im]).collect();
+    for line in values.chunks(4) {
+        let cells: String = line.iter().map(|x| format!("{x:20.11E}")).collect();
+        s.push_str(&cells);
+        s.push('\n');
+    }
+    s.push_str("    -1\n");
+    s
+}

@@ -27,7 +27,7 @@ pub fn run(
     let mut results = Vec::new();
     let mut verdicts = Vec::new();
     let (mut before, mut after) = (None, None);
-    for log in logs {
+    for log in logs.iter().filter(|l| l.kind != LogKind::Frf) {
         let res = match log.kind {
             LogKind::Random => random_log(log, limits, loc, &mut verdicts)?,
             LogKind::Shock => shock_log(log, loc, &mut verdicts)?,

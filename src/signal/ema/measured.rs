@@ -179,7 +179,7 @@ fn choose(
     let refs = distinct(found.iter().map(Found::reference));
     if let Some(want) = input {
         let hit = |f: &Found| {
-            let r = f.record.function.clone();
+            let r = &f.record.function;
             let short = uff::point(r.reference_node, r.reference_direction);
             f.reference().eq_ignore_ascii_case(want) || short.eq_ignore_ascii_case(want)
         };

@@ -3,12 +3,15 @@
 //! names, from each log's control to every test point's channel.
 
 use crate::error::{Error, SignalError};
-use crate::pipeline::plan::test_log;
+use crate::pipeline::plan::{TestLogPlan, test_log};
+use crate::signal::ema::measured::{Layout, read_measured_frfs};
 use crate::signal::ema::{Criteria, EmaOptions, FrfForm, FrfSet, Method, identify};
 use crate::signal::{PeakOptions, frf_of_files};
+use crate::spec::LogKind;
 use crate::spec::Scene;
 use crate::spec::correlation::{CorrelationSpec, TestModesSpec};
 use serde::Serialize;
+use std::path::PathBuf;
 
 /// Highest LSCF order and the stable orders a pole needs: the `satqual ema` defaults.
 const ORDER_MAX: usize = 60;
@@ -71,8 +74,14 @@ fn from_table(scene: &Scene, tm: &TestModesSpec) -> (Vec<TestMode>, String) {
 
 /// LSCF + LSFD on the FRFs of the named logs, averaged together.
 fn identified(scene: &Scene, c: &CorrelationSpec) -> Result<(Vec<TestMode>, String), Error> {
-    let (set, control) = measured_frfs(scene, c)?;
-    let model = identify(&set, &ema_options(c))?;
+    let (set, control, form) = measured_frfs(scene, c)?;
+    let model = identify(
+        &set,
+        &EmaOptions {
+            form,
+            ..ema_options(c)
+        },
+    )?;
     let modes = model.modes.iter().map(real_mode).collect();
     let source = format!(
         "LSCF + LSFD ({} / {}) of test log(s) {}",
@@ -84,8 +93,12 @@ fn identified(scene: &Scene, c: &CorrelationSpec) -> Result<(Vec<TestMode>, Stri
 }
 
 /// The H1 FRFs of the `[correlation] logs`, averaged together, from their shared control to
-/// every test point's channel (in test-point order), and that control's name.
-pub fn measured_frfs(scene: &Scene, c: &CorrelationSpec) -> Result<(FrfSet, String), Error> {
+/// every test point's channel (in test-point order), that control's name and the FRFs' form;
+/// or the FRFs the logs store (`kind = "frf"`).
+pub fn measured_frfs(
+    scene: &Scene,
+    c: &CorrelationSpec,
+) -> Result<(FrfSet, String, FrfForm), Error> {
     let loc = scene.locator();
     let mut plans = Vec::new();
     for name in &c.logs {
@@ -109,6 +122,9 @@ pub fn measured_frfs(scene: &Scene, c: &CorrelationSpec) -> Result<(FrfSet, Stri
             .into());
     }
     let paths: Vec<_> = plans.iter().map(|p| p.path.clone()).collect();
+    if first.kind == LogKind::Frf {
+        return stored_frfs(scene, &paths, first);
+    }
     let mut set = FrfSet {
         freqs: Vec::new(),
         channels: Vec::new(),
@@ -129,7 +145,49 @@ pub fn measured_frfs(scene: &Scene, c: &CorrelationSpec) -> Result<(FrfSet, Stri
         set.channels.push(tp.channel.clone());
         set.h.push(frf.h1());
     }
-    Ok((set, first.control.clone()))
+    Ok((set, first.control.clone(), FrfForm::Accelerance))
+}
+
+/// The stored FRFs of the reference a log's control names, or, from a roving hammer, of the
+/// response it names: one per test point's channel, in the form the file states.
+fn stored_frfs(
+    scene: &Scene,
+    paths: &[PathBuf],
+    log: &TestLogPlan,
+) -> Result<(FrfSet, String, FrfForm), Error> {
+    let loc = scene.locator();
+    let key = |k: &str| format!("test_log[{}].{k}", log.index);
+    let channels: Vec<String> = scene
+        .file
+        .test_point
+        .iter()
+        .map(|tp| tp.channel.clone())
+        .collect();
+    let measured = match read_measured_frfs(paths, Some(&log.control), &channels) {
+        Ok(Some(m)) => m,
+        Ok(None) => {
+            let msg = "kind = \"frf\", but the file holds no FRF (UFF58 function type 4)";
+            return Err(loc.err(&key("kind"), msg).into());
+        }
+        Err(by_reference) => match read_measured_frfs(paths, None, &channels) {
+            Ok(Some(m))
+                if m.layout == Layout::CommonResponse
+                    && same_point(&m.common_point, &log.control) =>
+            {
+                m
+            }
+            _ => return Err(loc.err(&key("control"), by_reference.to_string()).into()),
+        },
+    };
+    let form = measured.form.unwrap_or(FrfForm::Accelerance);
+    Ok((measured.set, measured.common_point, form))
+}
+
+/// Whether a point as the reader names it (`TestCase:1:+X`) is the one a scene names, with or
+/// without its entity.
+fn same_point(full: &str, named: &str) -> bool {
+    let (full, named) = (full.to_lowercase(), named.to_lowercase());
+    full == named || full.ends_with(&format!(":{named}"))
 }
 
 /// A channel missing from the log, located at the test point or the log's control naming it.

@@ -7,8 +7,8 @@ use crate::error::Error;
 use crate::pipeline::plan::{ModalOverrides, modal_options};
 use crate::pipeline::workflows::correlate::test_modes::measured_frfs;
 use crate::response::{OutputSet, Prepared};
-use crate::spec::Scene;
 use crate::spec::analysis::ResponsePoint;
+use crate::spec::{LogKind, Scene};
 use serde::Serialize;
 
 #[derive(Debug, Clone, Serialize)]
@@ -20,8 +20,8 @@ pub struct Overlay {
     pub after: Vec<f64>,
 }
 
-/// The overlays, or why there are none (no logs; test points along several axes, so the
-/// logs' drive axis is not known).
+/// The overlays, or why there are none (no logs; stored FRFs per force; test points along
+/// several axes, so the logs' drive axis is not known).
 pub fn overlays(before: &Scene, after: &Scene) -> Result<Result<Vec<Overlay>, String>, Error> {
     let Some(c) = before
         .file
@@ -33,6 +33,12 @@ pub fn overlays(before: &Scene, after: &Scene) -> Result<Result<Vec<Overlay>, St
             "no FRF overlay: the test modes do not come from logs".into()
         ));
     };
+    let stored =
+        |n: &String| (before.file.test_log.iter()).any(|l| &l.name == n && l.kind == LogKind::Frf);
+    if c.logs.iter().any(stored) {
+        let msg = "no FRF overlay: the stored FRFs are per unit force, and the model's overlay is a base-drive transmissibility";
+        return Ok(Err(msg.into()));
+    }
     let axes: Vec<(usize, f64)> = (before.file.test_point.iter())
         .map(|t| t.axis().expect("validated direction"))
         .collect();
@@ -41,7 +47,7 @@ pub fn overlays(before: &Scene, after: &Scene) -> Result<Result<Vec<Overlay>, St
         let msg = "no FRF overlay: the test points lie along several axes, and the logs do not say which one the shaker drove";
         return Ok(Err(msg.into()));
     }
-    let (set, _) = measured_frfs(before, c)?;
+    let (set, _, _) = measured_frfs(before, c)?;
     let (lo, hi) = (c.fmin_hz.unwrap_or(0.0), c.fmax_hz.unwrap_or(f64::INFINITY));
     let lines: Vec<usize> = (0..set.freqs.len())
         .filter(|&k| set.freqs[k] > 0.0 && set.freqs[k] >= lo && set.freqs[k] <= hi)
