@@ -162,6 +162,10 @@ fn measured_frfs_that_cannot_be_fitted_together_are_refused() {
         e.contains("other frequency lines") && e.contains("400 lines"),
         "{e}"
     );
+    let empty = dir.join("empty.uff");
+    std::fs::write(&empty, frf_record("m1", 1, 1, "g", &[])).unwrap();
+    let e = ema_error(&[empty.to_str().unwrap()]);
+    assert!(e.contains("line 2") && e.contains("no frequency line"), "{e}");
     // The commands that read time histories point measured FRFs to `ema`.
     let (code, _, e) = run_text(&["frf", MEASUREMENT, "--input", "a", "--output", "b"], None);
     assert!(code == 2 && e.contains("satqual ema FILE"), "{e}");

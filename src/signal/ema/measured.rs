@@ -284,7 +284,10 @@ fn common_lines(named: &[(String, Found)]) -> Result<Vec<f64>, SignalError> {
     let top = lines.iter().fold(0.0f64, |m, f| m.max(f.abs()));
     for (n, f) in named {
         let r = &f.record;
-        if !r.is_complex() {
+        if r.abscissa.is_empty() {
+            return Err(f.err(format!("FRF `{n}` holds no frequency line")));
+        }
+        if !matches!(r.ordinate_type, 5 | 6) {
             return Err(f.err(format!(
                 "FRF `{n}` holds real values (ordinate type {}): an FRF is complex (type 5 or 6)",
                 r.ordinate_type
