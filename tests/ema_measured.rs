@@ -165,7 +165,10 @@ fn measured_frfs_that_cannot_be_fitted_together_are_refused() {
     let empty = dir.join("empty.uff");
     std::fs::write(&empty, frf_record("m1", 1, 1, "g", &[])).unwrap();
     let e = ema_error(&[empty.to_str().unwrap()]);
-    assert!(e.contains("line 2") && e.contains("no frequency line"), "{e}");
+    assert!(
+        e.contains("line 2") && e.contains("no frequency line"),
+        "{e}"
+    );
     // The commands that read time histories point measured FRFs to `ema`.
     let (code, _, e) = run_text(&["frf", MEASUREMENT, "--input", "a", "--output", "b"], None);
     assert!(code == 2 && e.contains("satqual ema FILE"), "{e}");
@@ -176,4 +179,85 @@ fn measured_frfs_that_cannot_be_fitted_together_are_refused() {
         "acceleration",
     ]);
     assert!(e.contains("--input"), "{e}");
+}
+
+/// `--export-frf` writes the FRFs as a table (frequency, then `X_re, X_im`); read back, the
+/// same lines give the same modes to the last digit of the JSON (the CSV holds 17 significant
+/// digits, a double's round trip). A magnitude/phase table of the same FRFs, phase in degrees,
+/// gives them to 1e-9 (the polar form's rounding). References: the time-log run itself.
+#[test]
+fn an_frf_table_round_trips_through_ema() {
+    let dir = temp_dir("ema-frf-table");
+    let table = dir.join("frf.csv");
+    let table_arg = table.to_str().unwrap();
+    let logs = ema_json(&[
+        "data/realdata/pyfrf-impact/impact_1.csv",
+        "--input",
+        "force",
+        "--output",
+        "acceleration",
+        "--fmin",
+        "50",
+        "--fmax",
+        "6400",
+        "--export-frf",
+        table_arg,
+    ]);
+    let read_back = ema_json(&[table_arg, "--fmin", "50", "--fmax", "6400"]);
+    assert_eq!(
+        read_back["measured_frfs"]["records"][0]["channel"],
+        "acceleration"
+    );
+    assert!(!logs["modes"].as_array().unwrap().is_empty());
+    assert_eq!(logs["modes"], read_back["modes"]);
+    let text = std::fs::read_to_string(&table).unwrap();
+    let mut polar = String::from("Frequency [Hz];acc magnitude;acc phase [deg]\n");
+    for line in text.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        let (m, p) = (v[1].hypot(v[2]), v[2].atan2(v[1]).to_degrees());
+        polar.push_str(&format!("{:.17e};{m:.17e};{p:.17e}\n", v[0]));
+    }
+    let polar_path = dir.join("polar.csv");
+    std::fs::write(&polar_path, &polar).unwrap();
+    let p = ema_json(&[
+        polar_path.to_str().unwrap(),
+        "--fmin",
+        "50",
+        "--fmax",
+        "6400",
+    ]);
+    let (a, b) = (
+        logs["modes"].as_array().unwrap(),
+        p["modes"].as_array().unwrap(),
+    );
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        let f = |m: &Value, k: &str| m[k].as_f64().unwrap();
+        assert!(
+            rel(f(y, "frequency_hz"), f(x, "frequency_hz")) < 1e-9,
+            "{x} {y}"
+        );
+        assert!(
+            rel(f(y, "damping_ratio"), f(x, "damping_ratio")) < 1e-6,
+            "{x} {y}"
+        );
+    }
+    // A magnitude in dB, or a phase without its unit, is not read as a guess.
+    let db = polar.replace("acc magnitude", "acc magnitude [dB]");
+    std::fs::write(&polar_path, db).unwrap();
+    let e = ema_error(&[polar_path.to_str().unwrap()]);
+    assert!(e.contains("line 1") && e.contains("dB"), "{e}");
+    let bare = polar.replace("acc phase [deg]", "acc phase");
+    std::fs::write(&polar_path, bare).unwrap();
+    let e = ema_error(&[polar_path.to_str().unwrap()]);
+    assert!(e.contains("line 1") && e.contains("phase's unit"), "{e}");
+}
+
+#[test]
+fn a_uff_of_spectra_is_no_input_for_ema() {
+    let e = ema_error(&["data/realdata/pyuff-vibcontrol-psd/sample_dataset58_psd.uff"]);
+    assert!(
+        e.contains("function types [9]") && e.contains("no FRF"),
+        "{e}"
+    );
 }

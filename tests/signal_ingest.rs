@@ -399,7 +399,7 @@ fn uff_bad_inputs_are_errors() {
     let p = write("short.uff", short.join("\n").as_bytes());
     let e = satqual::signal::read_uff58(&p).unwrap_err().to_string();
     assert!(
-        e.contains("announces 3201 points") && e.contains("line 2"),
+        e.contains("announces 3201 points") && e.contains("line 9"),
         "{e}"
     );
     let mut bad: Vec<String> = lines.iter().map(|s| s.to_string()).collect();

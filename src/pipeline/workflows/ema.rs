@@ -115,7 +115,8 @@ fn run_measured(req: &EmaRequest, mut measured: MeasuredFrfs) -> Result<EmaRun, 
         }
         Some(form) => options.form = form,
         None => measured.notes.push(format!(
-            "the file does not say what its FRFs measure (record 9 data type 0): fitted as {}              (--frf-form)",
+            "{}: fitted as {} (--frf-form)",
+            measured.form_basis,
             options.form.name()
         )),
     }

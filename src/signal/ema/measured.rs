@@ -4,6 +4,7 @@
 //! responses (a shaker, a fixed hammer point) or one response and a roving hammer, whose shapes
 //! are read at the hit points by reciprocity.
 
+use super::frf_table::{FrfTable, read_frf_table};
 use super::{FrfForm, FrfSet};
 use crate::error::SignalError;
 use crate::signal::ingest::Unit;
@@ -14,6 +15,8 @@ use std::path::{Path, PathBuf};
 
 /// UFF58 function type of a frequency response function (record 6, field 1).
 const FUNCTION_FRF: i64 = 4;
+/// UFF58 function type of a time response, from which `ema` estimates FRFs.
+const FUNCTION_TIME: i64 = 1;
 /// UFF58 abscissa data type of a time axis (record 8): an FRF on it is not a spectrum.
 const DATA_TYPE_TIME: i64 = 17;
 /// Frequency lines of two records agree to this fraction of the highest line.
@@ -47,6 +50,8 @@ pub struct MeasuredFrfs {
     /// What the FRFs measure per unit force, from the ordinate's data type (record 9); `None`
     /// when the file does not say.
     pub form: Option<FrfForm>,
+    /// Where `form` comes from, or why the file does not give it.
+    pub form_basis: String,
     pub layout: Layout,
     /// The point every FRF shares (`1:+Z`, with its entity when the file names it).
     pub common_point: String,
@@ -99,9 +104,21 @@ pub fn read_measured_frfs(
     input: Option<&str>,
     outputs: &[String],
 ) -> Result<Option<MeasuredFrfs>, SignalError> {
+    if let Some(tables) = table_frfs(paths, input, outputs)? {
+        return Ok(Some(tables));
+    }
     let (found, others) = frf_records(paths)?;
     if found.is_empty() {
-        return Ok(None);
+        return match paths.iter().find(|p| uff::looks_like_uff(p)) {
+            Some(p) if !others.contains(&FUNCTION_TIME) => Err(SignalError::Unsupported {
+                file: p.clone(),
+                message: format!(
+                    "no FRF (UFF58 function type 4) and no time history (type 1) to estimate \
+                     one from: its records are of function types {others:?}"
+                ),
+            }),
+            _ => Ok(None),
+        };
     }
     if let Some(p) = paths.iter().find(|p| !uff::looks_like_uff(p)) {
         return Err(SignalError::Unsupported {
@@ -114,13 +131,14 @@ pub fn read_measured_frfs(
     let (layout, common_point, chosen) = choose(found, input)?;
     let named = select(name(chosen, layout)?, outputs)?;
     let freqs = common_lines(&named)?;
-    let form = common_form(&named)?;
+    let (form, form_basis) = common_form(&named)?;
     let (unit, scales, mut notes) = common_unit(&named)?;
     notes.insert(0, measured_note(&named, layout, &common_point));
-    if others > 0 {
+    if !others.is_empty() {
         notes.push(format!(
-            "{others} UFF58 record(s) of other function types (time histories, spectra, \
-             coherence) left out: only the FRFs (function type 4) are fitted"
+            "{} UFF58 record(s) of other function types (time histories, spectra, \
+             coherence) left out: only the FRFs (function type 4) are fitted",
+            others.len()
         ));
     }
     let set = FrfSet {
@@ -143,6 +161,7 @@ pub fn read_measured_frfs(
     Ok(Some(MeasuredFrfs {
         set,
         form,
+        form_basis,
         layout,
         common_point,
         unit,
@@ -151,10 +170,10 @@ pub fn read_measured_frfs(
     }))
 }
 
-/// Every FRF record of the UFF files among `paths`, and the count of their other records.
-fn frf_records(paths: &[PathBuf]) -> Result<(Vec<Found>, usize), SignalError> {
+/// Every FRF record of the UFF files among `paths`, and the function types of the others.
+fn frf_records(paths: &[PathBuf]) -> Result<(Vec<Found>, Vec<i64>), SignalError> {
     let mut found = Vec::new();
-    let mut others = 0;
+    let mut others = Vec::new();
     for p in paths.iter().filter(|p| uff::looks_like_uff(p)) {
         for record in uff::read_uff(p)?.records {
             if record.function.function_type == FUNCTION_FRF {
@@ -163,7 +182,7 @@ fn frf_records(paths: &[PathBuf]) -> Result<(Vec<Found>, usize), SignalError> {
                     record,
                 });
             } else {
-                others += 1;
+                others.push(record.function.function_type);
             }
         }
     }
@@ -248,10 +267,7 @@ fn name(chosen: Vec<Found>, layout: Layout) -> Result<Vec<(String, Found)>, Sign
 }
 
 /// The FRFs `outputs` names, in that order; all of them when it is empty.
-fn select(
-    named: Vec<(String, Found)>,
-    outputs: &[String],
-) -> Result<Vec<(String, Found)>, SignalError> {
+fn select<T>(named: Vec<(String, T)>, outputs: &[String]) -> Result<Vec<(String, T)>, SignalError> {
     if outputs.is_empty() {
         return Ok(named);
     }
@@ -260,7 +276,7 @@ fn select(
         .map(|(n, _)| n.as_str())
         .collect::<Vec<_>>()
         .join(", ");
-    let mut pool: Vec<Option<(String, Found)>> = named.into_iter().map(Some).collect();
+    let mut pool: Vec<Option<(String, T)>> = named.into_iter().map(Some).collect();
     outputs
         .iter()
         .map(|o| {
@@ -323,8 +339,8 @@ fn span(lines: &[f64]) -> String {
 }
 
 /// What the FRFs measure, from record 9's data type (8 displacement, 11 velocity, 12
-/// acceleration); they must agree.
-fn common_form(named: &[(String, Found)]) -> Result<Option<FrfForm>, SignalError> {
+/// acceleration), and what it was read from; they must agree.
+fn common_form(named: &[(String, Found)]) -> Result<(Option<FrfForm>, String), SignalError> {
     let form_of = |f: &Found| match f.record.ordinate_axis.data_type {
         8 => Some(FrfForm::Receptance),
         11 => Some(FrfForm::Mobility),
@@ -339,7 +355,16 @@ fn common_form(named: &[(String, Found)]) -> Result<Option<FrfForm>, SignalError
             named[0].0,
             first
         ))),
-        None => Ok(first),
+        None => {
+            let t = named[0].1.record.ordinate_axis.data_type;
+            let basis = match first {
+                Some(_) => format!("record 9 data type {t}"),
+                None => format!(
+                    "record 9 data type {t} is no displacement (8), velocity (11) or acceleration (12)"
+                ),
+            };
+            Ok((first, basis))
+        }
     }
 }
 
@@ -357,6 +382,7 @@ fn common_unit(named: &[(String, Found)]) -> Result<(String, Vec<f64>, Vec<Strin
     if named.iter().all(|(_, f)| label(f) == first) {
         let unit = match first {
             (o, d) if o.is_empty() && d.is_empty() => "as stored".to_string(),
+            (o, d) if d.is_empty() => o,
             (o, d) => format!("{o}/{d}"),
         };
         return Ok((unit, vec![1.0; named.len()], Vec::new()));
@@ -415,4 +441,114 @@ fn measured_note(named: &[(String, Found)], layout: Layout, common: &str) -> Str
 fn file_name(p: &Path) -> String {
     p.file_name()
         .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+}
+
+/// An FRF of a table by its name.
+type NamedColumn = (String, TableColumn);
+
+/// One FRF of a table, with where it was read.
+struct TableColumn {
+    file: PathBuf,
+    header_line: u64,
+    h: Vec<Complex64>,
+}
+
+/// The FRFs of text tables (a frequency column, then re/im or magnitude/phase pairs), when the
+/// first file is one; every file must then be one, on the same lines.
+fn table_frfs(
+    paths: &[PathBuf],
+    input: Option<&str>,
+    outputs: &[String],
+) -> Result<Option<MeasuredFrfs>, SignalError> {
+    let Some(tables) = read_tables(paths)? else {
+        return Ok(None);
+    };
+    let (freqs, named) = join_tables(tables)?;
+    let chosen = select(named, outputs)?;
+    let records = chosen
+        .iter()
+        .map(|(n, c)| FrfRecordSource {
+            channel: n.clone(),
+            file: c.file.clone(),
+            line: c.header_line,
+        })
+        .collect();
+    let note = format!(
+        "{} FRF(s) read from {} table(s), fitted as stored: a table states neither its \
+         reference, nor what its FRFs measure, nor the window the acquisition applied",
+        chosen.len(),
+        paths.len()
+    );
+    let (channels, h) = chosen.into_iter().map(|(n, c)| (n, c.h)).unzip();
+    Ok(Some(MeasuredFrfs {
+        set: FrfSet { freqs, channels, h },
+        form: None,
+        form_basis: "a table does not say what its FRFs measure".into(),
+        layout: Layout::CommonReference,
+        common_point: input.unwrap_or("the table's reference").to_string(),
+        unit: "as stored".into(),
+        records,
+        notes: vec![note],
+    }))
+}
+
+/// Every file read as an FRF table, when the first one is one (`None`: time logs or UFF).
+fn read_tables(paths: &[PathBuf]) -> Result<Option<Vec<(PathBuf, FrfTable)>>, SignalError> {
+    let Some(first) = paths.first().filter(|p| !uff::looks_like_uff(p)) else {
+        return Ok(None);
+    };
+    let Some(head) = read_frf_table(first)? else {
+        return Ok(None);
+    };
+    let mut tables = vec![(first.clone(), head)];
+    for p in &paths[1..] {
+        let t = read_frf_table(p)?.ok_or_else(|| SignalError::Unsupported {
+            file: p.clone(),
+            message: format!(
+                "{} is an FRF table and this file is not: FRFs cannot be averaged with time \
+                 histories",
+                first.display()
+            ),
+        })?;
+        tables.push((p.clone(), t));
+    }
+    Ok(Some(tables))
+}
+
+/// The tables' common lines and their FRFs by name (unique over every table).
+fn join_tables(
+    tables: Vec<(PathBuf, FrfTable)>,
+) -> Result<(Vec<f64>, Vec<NamedColumn>), SignalError> {
+    let (first, freqs) = (tables[0].0.clone(), tables[0].1.freqs.clone());
+    let top = freqs.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+    let mut named: Vec<NamedColumn> = Vec::new();
+    for (p, t) in tables {
+        let at = |message: String| SignalError::AtLine {
+            file: p.clone(),
+            line: t.header_line,
+            message,
+        };
+        let same = t.freqs.len() == freqs.len()
+            && (t.freqs.iter().zip(&freqs)).all(|(a, b)| (a - b).abs() <= LINES_AGREE * top);
+        if !same {
+            return Err(at(format!(
+                "other frequency lines than {}: {} against {}",
+                first.display(),
+                span(&t.freqs),
+                span(&freqs)
+            )));
+        }
+        for f in t.frfs {
+            if named.iter().any(|(n, _)| *n == f.name) {
+                return Err(at(format!("a second FRF named `{}`", f.name)));
+            }
+            let column = TableColumn {
+                file: p.clone(),
+                header_line: t.header_line,
+                h: f.h,
+            };
+            named.push((f.name, column));
+        }
+    }
+    Ok((freqs, named))
 }

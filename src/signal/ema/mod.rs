@@ -12,6 +12,7 @@
 //! Every mode carries its shape normalised to 1 at its largest component, the modal phase
 //! collinearity and the mean phase deviation ([`indicators`]).
 
+pub mod frf_table;
 pub mod indicators;
 pub mod lscf;
 pub mod lsfd;

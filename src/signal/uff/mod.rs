@@ -266,7 +266,7 @@ fn parse_record(
         .checked_mul(per_point)
         .ok_or_else(|| err(file, line_of(6), "number of data values overflows"))?;
     let values = match binary {
-        None => ascii_values(file, cur, need, r7.points, marker)?,
+        None => ascii_values(file, cur, need, r7.points, line_of(6))?,
         Some(layout) => binary_values(file, cur, need, &r7, layout, marker)?,
     };
     let (abscissa, re, im) = split_points(&values, &r7, complex);
@@ -297,9 +297,11 @@ fn ascii_values(
     cur: &mut Cursor,
     need: usize,
     points: usize,
-    marker: u64,
+    record7_line: u64,
 ) -> Result<Vec<f64>, SignalError> {
     let mut values: Vec<f64> = Vec::with_capacity(need.min(1 << 24));
+    let first_data_line = cur.line();
+    let mut last_data_line = first_data_line;
     loop {
         let line_no = cur.line();
         let Some(l) = cur.next_line() else {
@@ -313,6 +315,7 @@ fn ascii_values(
             break;
         }
         check_text(file, line_no, &l)?;
+        last_data_line = line_no;
         for tok in l.split_whitespace() {
             // Fortran may write D exponents.
             let v: f64 = if tok.contains(['D', 'd']) {
@@ -330,9 +333,11 @@ fn ascii_values(
     if values.len() != need {
         return Err(err(
             file,
-            marker,
+            record7_line,
             format!(
-                "record 7 announces {points} points ({need} values) but the data block holds {}",
+                "this header line (record 7, the data form) announces {points} points ({need} \
+                 values), but the data block below it (lines {first_data_line}–{}) holds {}",
+                last_data_line,
                 values.len()
             ),
         ));
