@@ -21,7 +21,12 @@ same file), not from satqual's export:
         /tmp/measurement-ema.json 1 999 30 > data/ema-refs/pyuff-measurement-sdypy.json
 
 (band 1-999 Hz: the file's last line, 1000 Hz, is the one sdypy needs beyond the band; the
-default --order-max 60 is pol_order_high 30).
+default --order-max 60 is pol_order_high 30). The dam's 26 FRFs, the same way:
+
+    satqual ema data/realdata/dialects/uff-dam/dam0.unv --fmin 0.5 --fmax 12.46875 \
+        --json > /tmp/dam-ema.json
+    python3 data/ema-refs/sdypy_lscf.py --uff data/realdata/dialects/uff-dam/dam0.unv \
+        /tmp/dam-ema.json 0.5 12.46875 30 > data/ema-refs/uff-dam-sdypy.json
 
 Two references are written:
 - `same_order`: for each mode satqual selected, sdypy's pole of the same model order nearest in
