@@ -1,65 +1,27 @@
-//! FRFs measured and exported by a modal acquisition system (UFF58 records of function type 4,
-//! complex, on frequency lines): `ema` fits them as they are, instead of estimating FRFs from
-//! time histories. A roving test holds one FRF per point: either one reference and roving
-//! responses (a shaker, a fixed hammer point) or one response and a roving hammer, whose shapes
-//! are read at the hit points by reciprocity.
+//! Measured FRFs from UFF58 records: which records belong together (one reference, or one
+//! response of a roving hammer), their names, lines, form and unit.
 
-use super::frf_table::{FrfTable, read_frf_table};
-use super::{FrfForm, FrfSet};
+use super::{
+    FrfRecordSource, LINES_AGREE, Layout, MeasuredFrfs, distinct, file_name, select, span,
+};
 use crate::error::SignalError;
+use crate::signal::ema::{FrfForm, FrfSet};
 use crate::signal::ingest::Unit;
 use crate::signal::uff::{self, UffRecord};
 use realfft::num_complex::Complex64;
-use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// UFF58 function type of a frequency response function (record 6, field 1).
 const FUNCTION_FRF: i64 = 4;
+
 /// UFF58 function type of a time response, from which `ema` estimates FRFs.
 const FUNCTION_TIME: i64 = 1;
+
 /// UFF58 abscissa data type of a time axis (record 8): an FRF on it is not a spectrum.
 const DATA_TYPE_TIME: i64 = 17;
-/// Frequency lines of two records agree to this fraction of the highest line.
-const LINES_AGREE: f64 = 1e-9;
+
 /// Pound-force in newtons (exact by definition: 0.45359237 kg × 9.80665 m/s²).
 const LBF_IN_N: f64 = 4.448_221_615_260_5;
-
-/// Which end of the FRFs stays put over the test.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Layout {
-    /// One reference (shaker, fixed hammer point), roving responses: shapes at the responses.
-    CommonReference,
-    /// One response (a fixed accelerometer), roving hammer: shapes at the hit points.
-    CommonResponse,
-}
-
-/// Where an FRF of the set was read.
-#[derive(Debug, Clone, Serialize)]
-pub struct FrfRecordSource {
-    pub channel: String,
-    pub file: PathBuf,
-    /// Line of the record's `58` marker.
-    pub line: u64,
-}
-
-/// FRFs read from files, ready for [`super::identify`].
-#[derive(Debug, Clone)]
-pub struct MeasuredFrfs {
-    pub set: FrfSet,
-    /// What the FRFs measure per unit force, from the ordinate's data type (record 9); `None`
-    /// when the file does not say.
-    pub form: Option<FrfForm>,
-    /// Where `form` comes from, or why the file does not give it.
-    pub form_basis: String,
-    pub layout: Layout,
-    /// The point every FRF shares (`1:+Z`, with its entity when the file names it).
-    pub common_point: String,
-    /// The FRFs' unit (`g/N` when converted; the file's label, or `as stored`).
-    pub unit: String,
-    pub records: Vec<FrfRecordSource>,
-    pub notes: Vec<String>,
-}
 
 /// One FRF record and the file it came from.
 struct Found {
@@ -96,17 +58,12 @@ fn labelled(entity: &str, node: i64, direction: i64) -> String {
     }
 }
 
-/// The measured FRFs of `paths` when they are UFF files holding FRF records; `None` when none
-/// does (time histories, from which FRFs are estimated). `input` picks the reference when the
-/// files hold several; `outputs` picks FRFs by name (all when empty).
-pub fn read_measured_frfs(
+/// The measured FRFs of UFF files; `None` when they hold none but time histories.
+pub(super) fn uff_frfs(
     paths: &[PathBuf],
     input: Option<&str>,
     outputs: &[String],
 ) -> Result<Option<MeasuredFrfs>, SignalError> {
-    if let Some(tables) = table_frfs(paths, input, outputs)? {
-        return Ok(Some(tables));
-    }
     let (found, others) = frf_records(paths)?;
     if found.is_empty() {
         return match paths.iter().find(|p| uff::looks_like_uff(p)) {
@@ -231,16 +188,6 @@ fn choose(
     )))
 }
 
-fn distinct(items: impl Iterator<Item = String>) -> Vec<String> {
-    let mut out: Vec<String> = Vec::new();
-    for i in items {
-        if !out.contains(&i) {
-            out.push(i);
-        }
-    }
-    out
-}
-
 /// Each FRF named by the point that roves: the response's channel name (ID line 4) when it is
 /// unique, else the response point; the hit point of a roving hammer. Two FRFs of one point are
 /// refused: which one to fit is the user's choice.
@@ -264,33 +211,6 @@ fn name(chosen: Vec<Found>, layout: Layout) -> Result<Vec<(String, Found)>, Sign
         named.push((n, f));
     }
     Ok(named)
-}
-
-/// The FRFs `outputs` names, in that order; all of them when it is empty.
-fn select<T>(named: Vec<(String, T)>, outputs: &[String]) -> Result<Vec<(String, T)>, SignalError> {
-    if outputs.is_empty() {
-        return Ok(named);
-    }
-    let available = named
-        .iter()
-        .map(|(n, _)| n.as_str())
-        .collect::<Vec<_>>()
-        .join(", ");
-    let mut pool: Vec<Option<(String, T)>> = named.into_iter().map(Some).collect();
-    outputs
-        .iter()
-        .map(|o| {
-            let slot = pool
-                .iter_mut()
-                .find(|s| s.as_ref().is_some_and(|(n, _)| n == o));
-            slot.and_then(Option::take)
-                .ok_or_else(|| SignalError::BadParameter {
-                    name: "output",
-                    value: o.clone(),
-                    reason: format!("no such FRF (or named twice); the FRFs: {available}"),
-                })
-        })
-        .collect()
 }
 
 /// The frequency lines every FRF shares; each must be complex and on a frequency axis.
@@ -329,13 +249,6 @@ fn common_lines(named: &[(String, Found)]) -> Result<Vec<f64>, SignalError> {
         }
     }
     Ok(lines.clone())
-}
-
-fn span(lines: &[f64]) -> String {
-    match (lines.first(), lines.last()) {
-        (Some(a), Some(b)) => format!("{} lines, {a}–{b} Hz", lines.len()),
-        _ => "no lines".into(),
-    }
 }
 
 /// What the FRFs measure, from record 9's data type (8 displacement, 11 velocity, 12
@@ -436,119 +349,4 @@ fn measured_note(named: &[(String, Found)], layout: Layout, common: &str) -> Str
         named.len(),
         files.join(", ")
     )
-}
-
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
-}
-
-/// An FRF of a table by its name.
-type NamedColumn = (String, TableColumn);
-
-/// One FRF of a table, with where it was read.
-struct TableColumn {
-    file: PathBuf,
-    header_line: u64,
-    h: Vec<Complex64>,
-}
-
-/// The FRFs of text tables (a frequency column, then re/im or magnitude/phase pairs), when the
-/// first file is one; every file must then be one, on the same lines.
-fn table_frfs(
-    paths: &[PathBuf],
-    input: Option<&str>,
-    outputs: &[String],
-) -> Result<Option<MeasuredFrfs>, SignalError> {
-    let Some(tables) = read_tables(paths)? else {
-        return Ok(None);
-    };
-    let (freqs, named) = join_tables(tables)?;
-    let chosen = select(named, outputs)?;
-    let records = chosen
-        .iter()
-        .map(|(n, c)| FrfRecordSource {
-            channel: n.clone(),
-            file: c.file.clone(),
-            line: c.header_line,
-        })
-        .collect();
-    let note = format!(
-        "{} FRF(s) read from {} table(s), fitted as stored: a table states neither its \
-         reference, nor what its FRFs measure, nor the window the acquisition applied",
-        chosen.len(),
-        paths.len()
-    );
-    let (channels, h) = chosen.into_iter().map(|(n, c)| (n, c.h)).unzip();
-    Ok(Some(MeasuredFrfs {
-        set: FrfSet { freqs, channels, h },
-        form: None,
-        form_basis: "a table does not say what its FRFs measure".into(),
-        layout: Layout::CommonReference,
-        common_point: input.unwrap_or("the table's reference").to_string(),
-        unit: "as stored".into(),
-        records,
-        notes: vec![note],
-    }))
-}
-
-/// Every file read as an FRF table, when the first one is one (`None`: time logs or UFF).
-fn read_tables(paths: &[PathBuf]) -> Result<Option<Vec<(PathBuf, FrfTable)>>, SignalError> {
-    let Some(first) = paths.first().filter(|p| !uff::looks_like_uff(p)) else {
-        return Ok(None);
-    };
-    let Some(head) = read_frf_table(first)? else {
-        return Ok(None);
-    };
-    let mut tables = vec![(first.clone(), head)];
-    for p in &paths[1..] {
-        let t = read_frf_table(p)?.ok_or_else(|| SignalError::Unsupported {
-            file: p.clone(),
-            message: format!(
-                "{} is an FRF table and this file is not: FRFs cannot be averaged with time \
-                 histories",
-                first.display()
-            ),
-        })?;
-        tables.push((p.clone(), t));
-    }
-    Ok(Some(tables))
-}
-
-/// The tables' common lines and their FRFs by name (unique over every table).
-fn join_tables(
-    tables: Vec<(PathBuf, FrfTable)>,
-) -> Result<(Vec<f64>, Vec<NamedColumn>), SignalError> {
-    let (first, freqs) = (tables[0].0.clone(), tables[0].1.freqs.clone());
-    let top = freqs.iter().fold(0.0f64, |m, f| m.max(f.abs()));
-    let mut named: Vec<NamedColumn> = Vec::new();
-    for (p, t) in tables {
-        let at = |message: String| SignalError::AtLine {
-            file: p.clone(),
-            line: t.header_line,
-            message,
-        };
-        let same = t.freqs.len() == freqs.len()
-            && (t.freqs.iter().zip(&freqs)).all(|(a, b)| (a - b).abs() <= LINES_AGREE * top);
-        if !same {
-            return Err(at(format!(
-                "other frequency lines than {}: {} against {}",
-                first.display(),
-                span(&t.freqs),
-                span(&freqs)
-            )));
-        }
-        for f in t.frfs {
-            if named.iter().any(|(n, _)| *n == f.name) {
-                return Err(at(format!("a second FRF named `{}`", f.name)));
-            }
-            let column = TableColumn {
-                file: p.clone(),
-                header_line: t.header_line,
-                h: f.h,
-            };
-            named.push((f.name, column));
-        }
-    }
-    Ok((freqs, named))
 }
