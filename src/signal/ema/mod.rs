@@ -153,7 +153,37 @@ fn band(set: &FrfSet, o: &EmaOptions) -> Result<(Vec<f64>, Vec<Vec<Complex64>>),
             });
         }
     }
+    check_squares(&set.channels, &freqs, &h)?;
     Ok((freqs, h))
+}
+
+/// Largest sum of |H|² the fit's normal equations hold with room for their products.
+const SQUARES_LIMIT: f64 = 1e300;
+
+/// The fit sums |H|² over every line and output: an outlier whose square overflows (a cell
+/// written as 1.7e308, a unit error of many decades) is named rather than fitted into NaN.
+fn check_squares(
+    channels: &[String],
+    freqs: &[f64],
+    h: &[Vec<Complex64>],
+) -> Result<(), SignalError> {
+    let total: f64 = h.iter().flatten().map(|z| z.norm_sqr()).sum();
+    if total.is_finite() && total <= SQUARES_LIMIT {
+        return Ok(());
+    }
+    let (o, k) = (0..h.len())
+        .flat_map(|o| (0..h[o].len()).map(move |k| (o, k)))
+        .max_by(|a, b| h[a.0][a.1].norm().total_cmp(&h[b.0][b.1].norm()))
+        .unwrap_or((0, 0));
+    Err(SignalError::Channel {
+        channel: channels[o].clone(),
+        message: format!(
+            "|H| = {:e} at {} Hz: the fit sums |H|², and this one overflows (an outlier or a \
+             unit error in the FRF)",
+            h[o][k].norm(),
+            freqs[k]
+        ),
+    })
 }
 
 /// Identifies the modes of `set` in the band of `opts`.
@@ -195,7 +225,13 @@ fn identify_lscf(
         .iter()
         .map(|f| std::f64::consts::PI * f / f_top)
         .collect();
-    let fits = lscf::fit_orders(&theta, &h, ts, n)?;
+    let fits = lscf::fit_orders(&theta, &h, ts, n).map_err(|e| {
+        SignalError::Invalid(format!(
+            "LSCF on channel(s) {} over {:.6}–{f_top:.6} Hz: {e}",
+            set.channels.join(", "),
+            freqs[0]
+        ))
+    })?;
     let range = (freqs[0], f_top);
     let diagram = stabilization::diagram(&fits, range, &opts.criteria);
     let chosen = stabilization::select(&diagram, &opts.criteria);

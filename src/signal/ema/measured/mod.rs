@@ -76,8 +76,13 @@ fn distinct(items: impl Iterator<Item = String>) -> Vec<String> {
     out
 }
 
-/// The FRFs `outputs` names, in that order; all of them when it is empty.
-fn select<T>(named: Vec<(String, T)>, outputs: &[String]) -> Result<Vec<(String, T)>, SignalError> {
+/// The FRFs `outputs` names, in that order; all of them when it is empty. `file` is named in
+/// the error (the first file read).
+fn select<T>(
+    named: Vec<(String, T)>,
+    outputs: &[String],
+    file: &Path,
+) -> Result<Vec<(String, T)>, SignalError> {
     if outputs.is_empty() {
         return Ok(named);
     }
@@ -94,10 +99,10 @@ fn select<T>(named: Vec<(String, T)>, outputs: &[String]) -> Result<Vec<(String,
                 .iter_mut()
                 .find(|s| s.as_ref().is_some_and(|(n, _)| n == o));
             slot.and_then(Option::take)
-                .ok_or_else(|| SignalError::BadParameter {
-                    name: "output",
-                    value: o.clone(),
-                    reason: format!("no such FRF (or named twice); the FRFs: {available}"),
+                .ok_or_else(|| SignalError::NoSuchChannel {
+                    file: file.to_path_buf(),
+                    name: o.clone(),
+                    available: format!("the FRFs {available}; each named once"),
                 })
         })
         .collect()

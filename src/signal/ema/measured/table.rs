@@ -30,7 +30,7 @@ pub(super) fn table_frfs(
         return Ok(None);
     };
     let (freqs, named) = join_tables(tables)?;
-    let chosen = select(named, outputs)?;
+    let chosen = select(named, outputs, &paths[0])?;
     let records = chosen
         .iter()
         .map(|(n, c)| FrfRecordSource {

@@ -86,7 +86,8 @@ pub(super) fn uff_frfs(
         });
     }
     let (layout, common_point, chosen) = choose(found, input)?;
-    let named = select(name(chosen, layout)?, outputs)?;
+    let first_file = chosen[0].file.clone();
+    let named = select(name(chosen, layout)?, outputs, &first_file)?;
     let freqs = common_lines(&named)?;
     let (form, form_basis) = common_form(&named)?;
     let (unit, scales, mut notes) = common_unit(&named)?;
