@@ -66,16 +66,7 @@ pub(super) fn uff_frfs(
 ) -> Result<Option<MeasuredFrfs>, SignalError> {
     let (found, others) = frf_records(paths)?;
     if found.is_empty() {
-        return match paths.iter().find(|p| uff::looks_like_uff(p)) {
-            Some(p) if !others.contains(&FUNCTION_TIME) => Err(SignalError::Unsupported {
-                file: p.clone(),
-                message: format!(
-                    "no FRF (UFF58 function type 4) and no time history (type 1) to estimate \
-                     one from: its records are of function types {others:?}"
-                ),
-            }),
-            _ => Ok(None),
-        };
+        return without_frfs(paths, &others);
     }
     if let Some(p) = paths.iter().find(|p| !uff::looks_like_uff(p)) {
         return Err(SignalError::Unsupported {
@@ -99,12 +90,43 @@ pub(super) fn uff_frfs(
             others.len()
         ));
     }
+    let (set, records) = scaled_set(&named, freqs, &scales);
+    Ok(Some(MeasuredFrfs {
+        set,
+        form,
+        form_basis,
+        layout,
+        common_point,
+        unit,
+        records,
+        notes,
+    }))
+}
+
+/// No FRF: time histories to estimate FRFs from (`None`), or nothing `ema` can use.
+fn without_frfs(paths: &[PathBuf], others: &[i64]) -> Result<Option<MeasuredFrfs>, SignalError> {
+    match paths.iter().find(|p| uff::looks_like_uff(p)) {
+        Some(p) if !others.contains(&FUNCTION_TIME) => Err(SignalError::Unsupported {
+            file: p.clone(),
+            message: format!(
+                "no FRF (UFF58 function type 4) and no time history (type 1) to estimate one \
+                 from: its records are of function types {others:?}"
+            ),
+        }),
+        _ => Ok(None),
+    }
+}
+
+/// The FRFs on `freqs`, each scaled to the common unit, and where each was read.
+fn scaled_set(
+    named: &[(String, Found)],
+    freqs: Vec<f64>,
+    scales: &[f64],
+) -> (FrfSet, Vec<FrfRecordSource>) {
     let set = FrfSet {
         freqs,
         channels: named.iter().map(|(n, _)| n.clone()).collect(),
-        h: named
-            .iter()
-            .zip(&scales)
+        h: (named.iter().zip(scales))
             .map(|((_, f), s)| complex_values(&f.record, *s))
             .collect(),
     };
@@ -116,16 +138,7 @@ pub(super) fn uff_frfs(
             line: f.record.line,
         })
         .collect();
-    Ok(Some(MeasuredFrfs {
-        set,
-        form,
-        form_basis,
-        layout,
-        common_point,
-        unit,
-        records,
-        notes,
-    }))
+    (set, records)
 }
 
 /// Every FRF record of the UFF files among `paths`, and the function types of the others.
