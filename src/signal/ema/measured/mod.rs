@@ -15,6 +15,15 @@ use std::path::{Path, PathBuf};
 /// Frequency lines of two records agree to this fraction of the highest line.
 const LINES_AGREE: f64 = 1e-9;
 
+/// Whether `a` holds the lines of `b`, each within [`LINES_AGREE`] of `b`'s highest line.
+fn same_lines(a: &[f64], b: &[f64]) -> bool {
+    let top = b.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| (x - y).abs() <= LINES_AGREE * top)
+}
+
 /// Which end of the FRFs stays put over the test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]

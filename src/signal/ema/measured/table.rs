@@ -1,7 +1,7 @@
 //! Measured FRFs from text tables ([`crate::signal::ema::frf_table`]): one or several files on
 //! the same lines, their FRFs named by their columns.
 
-use super::{FrfRecordSource, LINES_AGREE, Layout, MeasuredFrfs, select, span};
+use super::{FrfRecordSource, Layout, MeasuredFrfs, same_lines, select, span};
 use crate::error::SignalError;
 use crate::signal::ema::FrfSet;
 use crate::signal::ema::frf_table::{FrfTable, read_frf_table};
@@ -86,7 +86,6 @@ fn join_tables(
     tables: Vec<(PathBuf, FrfTable)>,
 ) -> Result<(Vec<f64>, Vec<NamedColumn>), SignalError> {
     let (first, freqs) = (tables[0].0.clone(), tables[0].1.freqs.clone());
-    let top = freqs.iter().fold(0.0f64, |m, f| m.max(f.abs()));
     let mut named: Vec<NamedColumn> = Vec::new();
     for (p, t) in tables {
         let at = |message: String| SignalError::AtLine {
@@ -94,9 +93,7 @@ fn join_tables(
             line: t.header_line,
             message,
         };
-        let same = t.freqs.len() == freqs.len()
-            && (t.freqs.iter().zip(&freqs)).all(|(a, b)| (a - b).abs() <= LINES_AGREE * top);
-        if !same {
+        if !same_lines(&t.freqs, &freqs) {
             return Err(at(format!(
                 "other frequency lines than {}: {} against {}",
                 first.display(),

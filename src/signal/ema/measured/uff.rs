@@ -1,9 +1,7 @@
 //! Measured FRFs from UFF58 records: which records belong together (one reference, or one
 //! response of a roving hammer), their names, lines, form and unit.
 
-use super::{
-    FrfRecordSource, LINES_AGREE, Layout, MeasuredFrfs, distinct, file_name, select, span,
-};
+use super::{FrfRecordSource, Layout, MeasuredFrfs, distinct, file_name, same_lines, select, span};
 use crate::error::SignalError;
 use crate::signal::ema::{FrfForm, FrfSet};
 use crate::signal::ingest::Unit;
@@ -231,7 +229,6 @@ fn name(chosen: Vec<Found>, layout: Layout) -> Result<Vec<(String, Found)>, Sign
 fn common_lines(named: &[(String, Found)]) -> Result<Vec<f64>, SignalError> {
     let (first_name, first) = &named[0];
     let lines = &first.record.abscissa;
-    let top = lines.iter().fold(0.0f64, |m, f| m.max(f.abs()));
     for (n, f) in named {
         let r = &f.record;
         if r.abscissa.is_empty() {
@@ -248,12 +245,7 @@ fn common_lines(named: &[(String, Found)]) -> Result<Vec<f64>, SignalError> {
                 "FRF `{n}` is on a time axis (record 8 data type 17): expected frequency lines"
             )));
         }
-        let same = r.abscissa.len() == lines.len()
-            && r.abscissa
-                .iter()
-                .zip(lines)
-                .all(|(a, b)| (a - b).abs() <= LINES_AGREE * top);
-        if !same {
+        if !same_lines(&r.abscissa, lines) {
             return Err(f.err(format!(
                 "FRF `{n}` is on other frequency lines than `{first_name}` ({}): {} against {}",
                 first.record.line,
