@@ -9,7 +9,7 @@ pub mod table;
 
 use crate::error::SignalError;
 use crate::signal::ingest::{IngestOptions, Log, Unit, read_csv};
-use crate::signal::uff::{channel_names, looks_like_uff, ordinate_unit, read_uff};
+use crate::signal::uff::{channel_names, looks_like_uff, ordinate_unit, read_uff, same_rate};
 use std::io::Read;
 use std::path::Path;
 use table::{Rate, Series, Table, table_to_log};
@@ -97,7 +97,7 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
         match (r.function.function_type, r.is_complex(), step) {
             (1, false, Some(step)) => {
                 if let Rate::Stated(fs, _) = rate
-                    && (fs * step - 1.0).abs() > 1e-6
+                    && !same_rate(fs, step)
                 {
                     ignored.push(format!(
                         "`{name}` (line {}: a step of {step} s, not 1/{fs} s)",

@@ -151,7 +151,7 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
             .uniform_step()
             .ok_or_else(|| uff_err("the abscissa is not evenly spaced".into()))?;
         if let Some((first_fs, first_name)) = &fs
-            && (first_fs * step - 1.0).abs() > 1e-6
+            && !crate::signal::uff::same_rate(*first_fs, step)
         {
             return Err(uff_err(format!(
                 "record `{name}` is sampled at {} Hz and `{first_name}` at {first_fs} Hz: one \

@@ -494,6 +494,12 @@ pub fn point(node: i64, direction: i64) -> String {
     }
 }
 
+/// Whether a record of abscissa step `step` (s) is sampled at `fs` (Hz), to the 1e-6 that the
+/// E13.5 fields of record 7 carry.
+pub fn same_rate(fs: f64, step: f64) -> bool {
+    (fs * step - 1.0).abs() <= 1e-6
+}
+
 /// Whether a file looks like UFF (first non-blank line is the `-1` delimiter).
 pub fn looks_like_uff(path: &Path) -> bool {
     use std::io::Read;
