@@ -62,6 +62,7 @@ mod signal_psd_cli;
 mod signal_signature;
 mod signal_srs;
 mod signal_sweep;
+mod signal_tdms;
 mod signal_timing;
 mod signal_welch;
 mod update;

@@ -84,6 +84,10 @@ fn formats_are_told_by_content() {
         LogFormat::Uff
     );
     assert_eq!(f("data/realdata/pyfrf-impact/impact_1.csv"), LogFormat::Csv);
+    assert_eq!(
+        f("data/format-refs/tdms/handmade_big_endian.tdms"),
+        LogFormat::Tdms
+    );
 }
 
 #[test]

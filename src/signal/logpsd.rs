@@ -22,7 +22,7 @@ pub enum PsdSource {
     CsvWelch,
     /// Welch on a UFF58 time history.
     UffWelch,
-    /// Welch on a log read whole (LabVIEW .lvm, MATLAB .mat).
+    /// Welch on a log read whole (LabVIEW .lvm, MATLAB .mat, TDMS).
     Welch,
     /// A PSD record read from UFF58 as it is.
     UffPsd,
@@ -83,7 +83,9 @@ pub fn psd_of_file(
     opts.validate()?;
     match detect(path) {
         LogFormat::Uff => return psd_of_uff(path, ingest, opts),
-        LogFormat::Lvm | LogFormat::Mat => return psd_of_log(read_log(path, ingest)?, opts),
+        LogFormat::Lvm | LogFormat::Mat | LogFormat::Tdms => {
+            return psd_of_log(read_log(path, ingest)?, opts);
+        }
         LogFormat::Csv => {}
     }
     // Names are known only once the header is read: the stream is built on the first row.
@@ -148,7 +150,7 @@ pub fn psd_of_file(
     })
 }
 
-/// Welch on every channel of a log read whole (LabVIEW .lvm, MATLAB .mat).
+/// Welch on every channel of a log read whole (LabVIEW .lvm, MATLAB .mat, TDMS).
 fn psd_of_log(log: Log, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
     let fs = log.info.fs_hz;
     let channels: Vec<ChannelPsd> = log

@@ -1,11 +1,12 @@
 //! Which format a log file is in, and reading any of them into a [`Log`]: CSV-like text
 //! ([`crate::signal::ingest`], streamed), UFF58/58b time histories ([`crate::signal::uff`]),
-//! LabVIEW `.lvm` ([`lvm`]) and MATLAB level 5 `.mat` ([`mat`]). The format is told by the
-//! file's first bytes, never by its extension.
+//! LabVIEW `.lvm` ([`lvm`]), MATLAB level 5 `.mat` ([`mat`]) and NI TDMS ([`tdms`]). The
+//! format is told by the file's first bytes, never by its extension.
 
 pub mod lvm;
 pub mod mat;
 pub mod table;
+pub mod tdms;
 
 use crate::error::SignalError;
 use crate::signal::ingest::{IngestOptions, Log, Unit, read_csv};
@@ -25,6 +26,8 @@ pub enum LogFormat {
     Lvm,
     /// MATLAB MAT-file.
     Mat,
+    /// NI TDMS file.
+    Tdms,
 }
 
 /// Tells the format from the first bytes of the file (a file that cannot be opened is taken as
@@ -37,6 +40,8 @@ pub fn detect(path: &Path) -> LogFormat {
     let head = &head[..n];
     if mat::looks_like_mat(head) {
         LogFormat::Mat
+    } else if tdms::looks_like_tdms(head) {
+        LogFormat::Tdms
     } else if lvm::looks_like_lvm(head) {
         LogFormat::Lvm
     } else if looks_like_uff(path) {
@@ -59,6 +64,14 @@ pub fn read_log(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
         LogFormat::Csv => read_csv(path, opts),
         LogFormat::Lvm => table_to_log(path, lvm::read_lvm(path, &read_bytes(path)?)?, opts),
         LogFormat::Mat => table_to_log(path, mat::read_mat(path, &read_bytes(path)?)?, opts),
+        LogFormat::Tdms => {
+            let wanted = opts.channels.as_deref();
+            table_to_log(
+                path,
+                tdms::read_tdms(path, &read_bytes(path)?, wanted)?,
+                opts,
+            )
+        }
         LogFormat::Uff => table_to_log(path, uff_table(path, opts)?, opts),
     }
 }

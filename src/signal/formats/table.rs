@@ -118,6 +118,40 @@ fn rate_source(rate: &Rate) -> String {
     }
 }
 
+/// Keeps the series of the time vector's length (`times`: its length and name), else of the
+/// most common length (the longer on a tie), and lists the others as unreadable.
+pub fn keep_common_length(
+    series: &mut Vec<Series>,
+    unreadable: &mut Vec<(String, String)>,
+    times: Option<(usize, &str)>,
+) {
+    let (len, of_what) = match times {
+        Some((len, name)) => (len, format!("the time vector `{name}`")),
+        None => {
+            let mut counts: Vec<(usize, usize)> = Vec::new();
+            for s in series.iter() {
+                match counts.iter_mut().find(|(l, _)| *l == s.values.len()) {
+                    Some(c) => c.1 += 1,
+                    None => counts.push((s.values.len(), 1)),
+                }
+            }
+            let len = counts
+                .iter()
+                .max_by_key(|(l, n)| (*n, *l))
+                .map_or(0, |c| c.0);
+            (len, "most channels".to_string())
+        }
+    };
+    let (keep, drop): (Vec<Series>, Vec<Series>) = std::mem::take(series)
+        .into_iter()
+        .partition(|s| s.values.len() == len);
+    for s in drop {
+        let why = format!("{} samples, not the {len} of {of_what}", s.values.len());
+        unreadable.push((s.name, why));
+    }
+    *series = keep;
+}
+
 /// Rate of a time vector: increasing, every step within `tol` of the mean step (a non-uniform
 /// vector is refused: these formats are read whole and not resampled).
 fn rate_of_times(path: &Path, t: &[f64], name: &str, tol: f64) -> Result<f64, SignalError> {
@@ -219,6 +253,18 @@ pub fn table_to_log(path: &Path, t: Table, opts: &IngestOptions) -> Result<Log, 
                     s.name,
                     s.values.len(),
                     t.series[chosen[0]].name
+                ),
+            });
+        }
+        if let Some(k) = s.values.iter().position(|v| !v.is_finite()) {
+            return Err(SignalError::Unsupported {
+                file: path.to_path_buf(),
+                message: format!(
+                    "channel `{}`: sample {} of {} is {}: a log must hold finite numbers",
+                    s.name,
+                    k + 1,
+                    s.values.len(),
+                    s.values[k]
                 ),
             });
         }

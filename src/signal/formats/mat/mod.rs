@@ -19,7 +19,7 @@
 
 mod elements;
 
-use super::table::{Rate, Series, Table};
+use super::table::{Rate, Series, Table, keep_common_length};
 use crate::error::SignalError;
 use crate::signal::ingest::time_column_unit;
 use elements::{Reader, Value};
@@ -109,7 +109,11 @@ fn to_table(path: &Path, vars: Vec<(String, Value)>) -> Table {
     for (name, value) in vars {
         collect(&name, value, &mut f);
     }
-    keep_common_length(&mut f);
+    keep_common_length(
+        &mut f.series,
+        &mut f.unreadable,
+        f.times.as_ref().map(|(t, name)| (t.len(), name.as_str())),
+    );
     let rate = match (f.times, f.rate) {
         (Some((t, name)), _) => Rate::Times(t, name),
         (None, Some((fs, from))) => Rate::Stated(fs, from),
@@ -211,34 +215,4 @@ fn matrix_channels(name: &str, rows: usize, cols: usize, data: &[f64], f: &mut F
             "matrix `{name}` {rows}x{cols}: {rows} channels, one per row"
         ));
     }
-}
-
-/// Keeps the channels of the time vector's length (else of the most common length, the
-/// longer on a tie) and lists the others.
-fn keep_common_length(f: &mut Found) {
-    let (len, of_what) = match &f.times {
-        Some((t, name)) => (t.len(), format!("the time vector `{name}`")),
-        None => {
-            let mut counts: Vec<(usize, usize)> = Vec::new();
-            for s in &f.series {
-                match counts.iter_mut().find(|(l, _)| *l == s.values.len()) {
-                    Some(c) => c.1 += 1,
-                    None => counts.push((s.values.len(), 1)),
-                }
-            }
-            let len = counts
-                .iter()
-                .max_by_key(|(l, n)| (*n, *l))
-                .map_or(0, |c| c.0);
-            (len, "most channels".to_string())
-        }
-    };
-    let (keep, drop): (Vec<Series>, Vec<Series>) = std::mem::take(&mut f.series)
-        .into_iter()
-        .partition(|s| s.values.len() == len);
-    for s in drop {
-        let why = format!("{} samples, not the {len} of {of_what}", s.values.len());
-        f.unreadable.push((s.name, why));
-    }
-    f.series = keep;
 }

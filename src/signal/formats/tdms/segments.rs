@@ -1,0 +1,444 @@
+//! The segments of a TDMS file: the 28-byte lead-in, the metadata (the object list, carried
+//! from segment to segment, raw data indexes and properties) and the raw data, contiguous or
+//! interleaved, in chunks. Layout from NI, "TDMS File Format Internal Structure".
+
+use std::collections::HashMap;
+
+use super::values::{Cursor, DataType, PropValue, real_value, timestamp_ticks};
+
+const TOC_META_DATA: u32 = 1 << 1;
+const TOC_NEW_OBJ_LIST: u32 = 1 << 2;
+const TOC_RAW_DATA: u32 = 1 << 3;
+const TOC_INTERLEAVED: u32 = 1 << 5;
+const TOC_BIG_ENDIAN: u32 = 1 << 6;
+const TOC_DAQMX_RAW_DATA: u32 = 1 << 7;
+
+const LEAD_IN: usize = 28;
+/// Raw data index headers with a meaning of their own.
+const NO_DATA: u32 = 0xFFFF_FFFF;
+const SAME_AS_BEFORE: u32 = 0;
+const DAQMX_SCALERS: [u32; 2] = [0x6912_0000, 0x6913_0000];
+
+/// How many values of which type an object holds per chunk of a segment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawIndex {
+    pub data_type: DataType,
+    pub count: u64,
+    /// Bytes per chunk, for strings (the index states it).
+    pub text_bytes: Option<u64>,
+}
+
+impl RawIndex {
+    fn bytes(&self) -> Option<u64> {
+        match self.text_bytes {
+            Some(b) => Some(b),
+            None => self.count.checked_mul(self.data_type.size()? as u64),
+        }
+    }
+}
+
+/// An object of the current object list.
+#[derive(Debug, Clone)]
+struct Listed {
+    path: String,
+    index: Option<RawIndex>,
+    has_data: bool,
+}
+
+/// The values an object holds, over all segments.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Data {
+    None,
+    Reals(Vec<f64>),
+    /// Timestamps in 2^-64 s.
+    Times(Vec<i128>),
+    /// Values of a type not read as a channel (strings, booleans, complex).
+    Skipped(DataType),
+}
+
+/// A group, a channel or the file object: its path, properties and values.
+#[derive(Debug, Clone)]
+pub struct Object {
+    pub path: String,
+    pub properties: Vec<(String, PropValue)>,
+    pub data: Data,
+    /// The segment where its data type changed, if it did (its values are then not read).
+    pub type_changed: Option<String>,
+}
+
+/// A whole file read: its objects in the order they first appear, and notes.
+pub struct Parsed {
+    pub objects: Vec<Object>,
+    pub segments: usize,
+    pub version: u32,
+    pub big_endian: bool,
+    pub notes: Vec<String>,
+}
+
+/// Where a segment lies and how it is laid out.
+struct Segment {
+    number: usize,
+    start: usize,
+    toc: u32,
+    data_start: usize,
+    end: usize,
+    cut_short: bool,
+}
+
+/// State carried from segment to segment.
+#[derive(Default)]
+struct State {
+    list: Vec<Listed>,
+    /// The raw data index each object was last given, for a later "same as before".
+    indexes: HashMap<String, RawIndex>,
+    objects: Vec<Object>,
+    seen_metadata: bool,
+    notes: Vec<String>,
+}
+
+/// Reads every segment of a TDMS file. Errors name the segment and the byte.
+pub fn parse(bytes: &[u8]) -> Result<Parsed, String> {
+    let mut st = State::default();
+    let (mut pos, mut number, mut version, mut big) = (0, 0, 0, false);
+    while pos < bytes.len() {
+        number += 1;
+        let seg = match lead_in(bytes, pos, number)? {
+            Some((seg, v, b)) => {
+                (version, big) = (v, b);
+                seg
+            }
+            None => {
+                st.notes.push(format!(
+                    "the last {} bytes, from byte {pos}, are not a whole segment lead-in: not read",
+                    bytes.len() - pos
+                ));
+                break;
+            }
+        };
+        let at = |e: String| format!("segment {} (byte {}): {e}", seg.number, seg.start);
+        if seg.toc & TOC_DAQMX_RAW_DATA != 0 {
+            return Err(at(daqmx_message()));
+        }
+        if seg.toc & TOC_META_DATA != 0 {
+            metadata(bytes, &seg, &mut st).map_err(at)?;
+            st.seen_metadata = true;
+        } else if !st.seen_metadata {
+            return Err(at(
+                "no metadata, and no segment before it that has some".into()
+            ));
+        }
+        if seg.toc & TOC_RAW_DATA != 0 {
+            raw_data(bytes, &seg, &mut st).map_err(at)?;
+        }
+        pos = seg.end;
+    }
+    if number == 0 {
+        return Err("empty file".into());
+    }
+    Ok(Parsed {
+        objects: st.objects,
+        segments: number,
+        version,
+        big_endian: big,
+        notes: st.notes,
+    })
+}
+
+fn daqmx_message() -> String {
+    "DAQmx raw data (NI-DAQmx logging: unscaled integers with the scaling stored beside them), \
+     which satqual does not read: export the scaled channels (DIAdem, or LabVIEW's TDMS File \
+     Viewer) to a TDMS, CSV or MAT file"
+        .into()
+}
+
+/// The lead-in at `pos`; `None` when fewer than 28 bytes are left.
+fn lead_in(
+    bytes: &[u8],
+    pos: usize,
+    number: usize,
+) -> Result<Option<(Segment, u32, bool)>, String> {
+    if bytes.len() - pos < LEAD_IN {
+        return Ok(None);
+    }
+    let here = |e: &str| format!("segment {number} (byte {pos}): {e}");
+    match &bytes[pos..pos + 4] {
+        b"TDSm" => {}
+        b"TDSh" => {
+            return Err(here(
+                "a TDMS index (`.tdms_index`) holds no data: pass the `.tdms` file",
+            ));
+        }
+        other => {
+            return Err(here(&format!(
+                "starts with {:?}, not the tag `TDSm`",
+                String::from_utf8_lossy(other)
+            )));
+        }
+    }
+    // The table of contents is little-endian; its big-endian flag rules the rest.
+    let toc = u32::from_le_bytes(bytes[pos + 4..pos + 8].try_into().unwrap_or_default());
+    let big = toc & TOC_BIG_ENDIAN != 0;
+    let mut c = Cursor::new(bytes, pos + 8, pos + LEAD_IN, big);
+    let version = c.u32()?;
+    let next = c.u64()?;
+    let raw = c.u64()?;
+    let body = pos + LEAD_IN;
+    let left = (bytes.len() - body) as u64;
+    // An unfinished last segment (the writer stopped) states all ones, or more than is there.
+    let (end, cut_short) = if next == u64::MAX || next > left {
+        (bytes.len(), true)
+    } else {
+        (body + next as usize, false)
+    };
+    if raw > (end - body) as u64 {
+        return Err(here(&format!(
+            "its metadata would end at byte {}, past the segment's end at byte {end}",
+            body as u64 + raw
+        )));
+    }
+    let seg = Segment {
+        number,
+        start: pos,
+        toc,
+        data_start: body + raw as usize,
+        end,
+        cut_short,
+    };
+    Ok(Some((seg, version, big)))
+}
+
+/// Reads a segment's metadata into the object list and the objects.
+fn metadata(bytes: &[u8], seg: &Segment, st: &mut State) -> Result<(), String> {
+    let big = seg.toc & TOC_BIG_ENDIAN != 0;
+    let mut c = Cursor::new(bytes, seg.start + LEAD_IN, seg.data_start, big);
+    if seg.toc & TOC_NEW_OBJ_LIST != 0 {
+        st.list.clear();
+    }
+    let count = c.u32()?;
+    for _ in 0..count {
+        let path = c.string()?;
+        let header = c.u32()?;
+        let before = st.list.iter().position(|l| l.path == path);
+        let known = before
+            .and_then(|i| st.list[i].index.clone())
+            .or_else(|| st.indexes.get(&path).cloned());
+        let (index, has_data) = match header {
+            NO_DATA => (known, false),
+            SAME_AS_BEFORE => match known {
+                Some(ix) => (Some(ix), true),
+                None => {
+                    return Err(format!(
+                        "object `{path}` reuses the previous raw data index, but has none before"
+                    ));
+                }
+            },
+            h if DAQMX_SCALERS.contains(&h) => return Err(daqmx_message()),
+            _ => (Some(raw_index(&mut c, &path)?), true),
+        };
+        if let Some(ix) = &index {
+            st.indexes.insert(path.clone(), ix.clone());
+        }
+        let entry = Listed {
+            path: path.clone(),
+            index,
+            has_data,
+        };
+        match before {
+            Some(i) => st.list[i] = entry,
+            None => st.list.push(entry),
+        }
+        let n_props = c.u32()?;
+        let props = (0..n_props)
+            .map(|_| c.property())
+            .collect::<Result<Vec<_>, _>>()?;
+        merge_properties(object_mut(st, &path), props);
+    }
+    Ok(())
+}
+
+fn raw_index(c: &mut Cursor, path: &str) -> Result<RawIndex, String> {
+    let data_type = DataType::from_code(c.u32()?);
+    let dimension = c.u32()?;
+    if dimension != 1 {
+        return Err(format!(
+            "object `{path}` has array dimension {dimension}; TDMS allows only 1"
+        ));
+    }
+    let count = c.u64()?;
+    let text_bytes = match data_type {
+        DataType::Text => Some(c.u64()?),
+        _ => None,
+    };
+    Ok(RawIndex {
+        data_type,
+        count,
+        text_bytes,
+    })
+}
+
+fn object_mut<'s>(st: &'s mut State, path: &str) -> &'s mut Object {
+    let i = match st.objects.iter().position(|o| o.path == path) {
+        Some(i) => i,
+        None => {
+            st.objects.push(Object {
+                path: path.to_string(),
+                properties: Vec::new(),
+                data: Data::None,
+                type_changed: None,
+            });
+            st.objects.len() - 1
+        }
+    };
+    &mut st.objects[i]
+}
+
+fn merge_properties(o: &mut Object, props: Vec<(String, PropValue)>) {
+    for (name, value) in props {
+        match o.properties.iter_mut().find(|(n, _)| *n == name) {
+            Some(p) => p.1 = value,
+            None => o.properties.push((name, value)),
+        }
+    }
+}
+
+/// The objects holding data in this segment, with their indexes.
+fn data_objects(st: &State) -> Vec<(String, RawIndex)> {
+    st.list
+        .iter()
+        .filter(|l| l.has_data)
+        .filter_map(|l| l.index.clone().map(|ix| (l.path.clone(), ix)))
+        .collect()
+}
+
+/// Reads the raw data of one segment: whole chunks, each holding every data object's values
+/// once (one after another, or interleaved value by value).
+fn raw_data(bytes: &[u8], seg: &Segment, st: &mut State) -> Result<(), String> {
+    let objs = data_objects(st);
+    let mut chunk: u64 = 0;
+    for (path, ix) in &objs {
+        let b = ix.bytes().ok_or_else(|| {
+            format!(
+                "object `{path}` holds {}, whose size is unknown",
+                ix.data_type.describe()
+            )
+        })?;
+        chunk = chunk
+            .checked_add(b)
+            .ok_or_else(|| "the chunk size overflows".to_string())?;
+    }
+    let avail = (seg.end - seg.data_start) as u64;
+    if chunk == 0 {
+        return Ok(());
+    }
+    if seg.cut_short {
+        st.notes.push(format!(
+            "segment {} (byte {}) is the last and its length was never written (the writer stopped): read to the end of the file",
+            seg.number, seg.start
+        ));
+    }
+    let chunks = avail / chunk;
+    let rest = avail % chunk;
+    if rest != 0 || chunks == 0 {
+        st.notes.push(format!(
+            "segment {} (byte {}): its last {rest} bytes of raw data are not a whole chunk of {chunk} bytes: not read",
+            seg.number, seg.start
+        ));
+    }
+    let big = seg.toc & TOC_BIG_ENDIAN != 0;
+    let mut c = Cursor::new(bytes, seg.data_start, seg.end, big);
+    let interleaved = seg.toc & TOC_INTERLEAVED != 0;
+    for _ in 0..chunks {
+        if interleaved {
+            interleaved_chunk(&mut c, &objs, st, seg.number)?;
+        } else {
+            for (path, ix) in &objs {
+                let n = ix.bytes().unwrap_or(0) as usize;
+                let block = c.take(n)?;
+                append(st, path, ix, block, big, seg.number);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// One interleaved chunk: value k of every object, then value k + 1, ...
+fn interleaved_chunk(
+    c: &mut Cursor,
+    objs: &[(String, RawIndex)],
+    st: &mut State,
+    segment: usize,
+) -> Result<(), String> {
+    let count = objs[0].1.count;
+    if let Some((path, _)) = objs.iter().find(|(_, ix)| ix.count != count) {
+        return Err(format!(
+            "interleaved data, but `{path}` holds another number of values than `{}`",
+            objs[0].0
+        ));
+    }
+    let sizes: Vec<usize> = objs
+        .iter()
+        .map(|(path, ix)| match (ix.text_bytes, ix.data_type.size()) {
+            (None, Some(s)) => Ok(s),
+            _ => Err(format!(
+                "interleaved data, but `{path}` holds {}, which cannot be interleaved",
+                ix.data_type.describe()
+            )),
+        })
+        .collect::<Result<_, _>>()?;
+    let row: usize = sizes.iter().sum();
+    let bytes = usize::try_from(count)
+        .ok()
+        .and_then(|n| n.checked_mul(row))
+        .ok_or_else(|| "the chunk size overflows".to_string())?;
+    let block = c.take(bytes)?;
+    for (k, (path, ix)) in objs.iter().enumerate() {
+        let offset: usize = sizes[..k].iter().sum();
+        let mut values = Vec::with_capacity(count as usize * sizes[k]);
+        for r in 0..count as usize {
+            let at = r * row + offset;
+            values.extend_from_slice(&block[at..at + sizes[k]]);
+        }
+        append(st, path, ix, &values, c.big, segment);
+    }
+    Ok(())
+}
+
+/// Appends a block of one object's values (contiguous, in the file's byte order).
+fn append(st: &mut State, path: &str, ix: &RawIndex, block: &[u8], big: bool, segment: usize) {
+    let o = object_mut(st, path);
+    let dt = ix.data_type;
+    let size = dt.size().unwrap_or(0);
+    let same_kind = match (&o.data, dt) {
+        (Data::None, _) => true,
+        (Data::Reals(_), t) => t.is_real(),
+        (Data::Times(_), DataType::Timestamp) => true,
+        (Data::Skipped(t), u) => *t == u,
+        _ => false,
+    };
+    if !same_kind && o.type_changed.is_none() {
+        o.type_changed = Some(format!(
+            "its data type changes to {} in segment {segment}",
+            dt.describe()
+        ));
+    }
+    if o.type_changed.is_some() {
+        return;
+    }
+    match dt {
+        t if t.is_real() => {
+            let values = block.chunks_exact(size).map(|b| real_value(t, b, big));
+            match &mut o.data {
+                Data::Reals(v) => v.extend(values),
+                _ => o.data = Data::Reals(values.collect()),
+            }
+        }
+        DataType::Timestamp => {
+            let ticks = block.chunks_exact(size).map(|b| timestamp_ticks(b, big));
+            match &mut o.data {
+                Data::Times(v) => v.extend(ticks),
+                _ => o.data = Data::Times(ticks.collect()),
+            }
+        }
+        other => o.data = Data::Skipped(other),
+    }
+}
