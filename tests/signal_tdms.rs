@@ -63,7 +63,7 @@ fn every_real_channel_reads_as_nptdms_reads_it() {
             checked += 1;
         }
     }
-    assert_eq!(checked, 7, "channels compared");
+    assert_eq!(checked, 11, "channels compared");
 }
 
 #[test]
@@ -117,6 +117,39 @@ fn big_endian_interleaved_and_unfinished_segments_are_noted() {
     );
 }
 
+#[test]
+fn daqmx_channels_are_scaled_by_the_chain_in_their_properties() {
+    let log = read_log(&tdms("handmade_daqmx.tdms"), &IngestOptions::default()).unwrap();
+    let units: Vec<(&str, Unit)> = log
+        .info
+        .channels
+        .iter()
+        .map(|c| (c.name.as_str(), c.unit))
+        .collect();
+    assert_eq!(
+        units,
+        [("ai0", Unit::G), ("ai1", Unit::AsIs), ("ai2", Unit::G)]
+    );
+    assert_eq!(log.info.fs_hz, 25600.0);
+    let notes = log.info.ingest.notes.join("\n");
+    assert!(notes.contains("3 channel(s) of DAQmx raw data"), "{notes}");
+    assert!(
+        notes.contains("`ai0` (DAQmx raw → Polynomial → Linear)"),
+        "{notes}"
+    );
+    let (code, out, err) = run_text(
+        &[
+            "psd",
+            tdms("handmade_daqmx.tdms").to_str().unwrap(),
+            "--json",
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["channels"].as_array().unwrap().len(), 3);
+}
+
 fn with_bytes(name: &str, file: &str, edit: impl Fn(&mut Vec<u8>)) -> PathBuf {
     let mut b = std::fs::read(tdms(file)).unwrap();
     edit(&mut b);
@@ -132,11 +165,14 @@ fn psd_error(p: &Path) -> String {
 }
 
 #[test]
-fn daqmx_index_files_broken_segments_and_nan_are_located_errors() {
-    // The table of contents' DAQmx flag (bit 7) on the first segment.
+fn misflagged_segments_index_files_broken_segments_and_nan_are_located_errors() {
+    // The table of contents' DAQmx flag (bit 7) on a segment of plain channels.
     let daqmx = with_bytes("daqmx", "handmade_big_endian.tdms", |b| b[4] |= 0x80);
     let e = psd_error(&daqmx);
-    assert!(e.contains("segment 1 (byte 0): DAQmx raw data"), "{e}");
+    assert!(
+        e.contains("segment 1 (byte 0): DAQmx raw data, but `/'Rig'/'acc ''x'''` has a plain"),
+        "{e}"
+    );
     let index = with_bytes("index", "handmade_big_endian.tdms", |b| b[3] = b'h');
     assert!(psd_error(&index).contains("`.tdms_index`"));
     let cut = with_bytes("cut", "handmade_big_endian.tdms", |b| b.truncate(100));
@@ -160,9 +196,14 @@ fn daqmx_index_files_broken_segments_and_nan_are_located_errors() {
 
 #[test]
 fn mutated_files_give_a_log_or_an_error_never_a_panic() {
-    // Every byte of the handmade file set to 0x00, 0xFF and its value + 1, and the file cut at
+    // Every byte of the handmade files set to 0x00, 0xFF and its value + 1, and the file cut at
     // every 13th length: each read ends in a table or an error message.
-    let original = std::fs::read(tdms("handmade_big_endian.tdms")).unwrap();
+    for file in ["handmade_big_endian.tdms", "handmade_daqmx.tdms"] {
+        mutate_every_byte(&std::fs::read(tdms(file)).unwrap());
+    }
+}
+
+fn mutate_every_byte(original: &[u8]) {
     let path = Path::new("mutant.tdms");
     let (mut read, mut refused) = (0, 0);
     let mut run = |b: &[u8]| match read_tdms(path, b, None) {
@@ -177,7 +218,7 @@ fn mutated_files_give_a_log_or_an_error_never_a_panic() {
     };
     for i in 0..original.len() {
         for v in [0u8, 0xFF, original[i].wrapping_add(1)] {
-            let mut b = original.clone();
+            let mut b = original.to_vec();
             b[i] = v;
             run(&b);
         }

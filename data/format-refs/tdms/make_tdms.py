@@ -9,9 +9,14 @@ Two writers, so that satqual is not checked against its own reading of the forma
   TdmsWriter never writes: `handmade_big_endian.tdms` (big-endian; interleaved raw data; a
   segment with no metadata that reuses the object list; a segment whose objects say "same raw
   data index as before"; a last segment whose length field is all ones, as a writer that
-  stopped leaves it).
+  stopped leaves it); `handmade_daqmx.tdms` (NI-DAQmx logging's layout: two acquisition
+  buffers of interleaved i16 rows, format-changing scalers, a DAQmx raw → polynomial → linear
+  scaling chain in the channel properties, and a segment with no metadata); and
+  `handmade_scaled_i16.tdms` (a plain i16 channel with a linear scaling in its properties, as
+  LabVIEW's raw writes leave it).
 Every file is then read with npTDMS, and `expected.json` holds, per file and channel, the
-values npTDMS reads (RMS, first and last value, count) and the properties satqual uses.
+values npTDMS reads (RMS, first and last value, count; scaled where the file states a scaling)
+and the properties satqual uses.
 
 Run from the repository root:  python3 data/format-refs/tdms/make_tdms.py
 Versions used: numpy 2.4.6, npTDMS 1.13.0.
@@ -70,6 +75,8 @@ def s(text, e):
 def prop(name, value, e):
     if isinstance(value, str):
         return s(name, e) + struct.pack(e + "I", 0x20) + s(value, e)
+    if isinstance(value, int):  # NI writes scale counts and input sources as u32
+        return s(name, e) + struct.pack(e + "I", 7) + struct.pack(e + "I", value)
     return s(name, e) + struct.pack(e + "I", 10) + struct.pack(e + "d", value)
 
 
@@ -125,9 +132,80 @@ def write_handmade():
         f.write(data)
 
 
+def daqmx_obj(path, count, scalers, widths, props):
+    """A DAQmx channel: raw data index 0x1269, data type 0xFFFFFFFF, then its scalers
+    (DAQmx type, buffer, byte offset, format bitmap, scale id) and the buffer widths."""
+    e = "<"
+    b = s(path, e) + struct.pack(e + "IIIQ", 0x1269, 0xFFFFFFFF, 1, count)
+    b += struct.pack(e + "I", len(scalers))
+    for (dtype, buf, offset, scale_id) in scalers:
+        b += struct.pack(e + "IIIII", dtype, buf, offset, 0, scale_id)
+    b += struct.pack(e + "I", len(widths)) + b"".join(struct.pack(e + "I", w) for w in widths)
+    b += struct.pack(e + "I", len(props)) + b"".join(prop(n, v, e) for n, v in props)
+    return b
+
+
+def iepe_chain(coefficients, sensitivity_v_per_unit, unit):
+    """DAQmx's chain for an IEPE sensor: raw counts (scale 0, the DAQmx scaler) → volts
+    (polynomial, scale 1) → physical unit (linear, scale 2)."""
+    p = [("NI_Scaling_Status", "unscaled"), ("NI_Number_Of_Scales", 3),
+         ("NI_Scale[1]_Scale_Type", "Polynomial"),
+         ("NI_Scale[1]_Polynomial_Coefficients_Size", len(coefficients)),
+         ("NI_Scale[1]_Polynomial_Input_Source", 0)]
+    p += [("NI_Scale[1]_Polynomial_Coefficients[%d]" % k, c) for k, c in enumerate(coefficients)]
+    p += [("NI_Scale[2]_Scale_Type", "Linear"),
+          ("NI_Scale[2]_Linear_Slope", 1.0 / sensitivity_v_per_unit),
+          ("NI_Scale[2]_Linear_Y_Intercept", 0.0),
+          ("NI_Scale[2]_Linear_Input_Source", 1),
+          ("NI_UnitDescription", unit), ("wf_increment", 1.0 / 25600)]
+    return p
+
+
+def write_daqmx():
+    e = "<"
+    n = 512
+    rng = np.random.default_rng(11)
+    counts = [np.clip(np.round(12000 * np.sin(2 * np.pi * 440 * np.arange(3 * n) / 25600)
+                               + 300 * rng.standard_normal(3 * n)), -32768, 32767).astype("<i2")
+              for _ in range(3)]
+    poly = [2.1e-4, 3.0518e-4, 1.2e-12, -4.0e-17]
+    chans = [
+        daqmx_obj("/'DAQ'/'ai0'", n, [(3, 0, 0, 0)], [4, 2], iepe_chain(poly, 0.1, "g")),
+        daqmx_obj("/'DAQ'/'ai1'", n, [(3, 0, 2, 0)], [4, 2], iepe_chain(poly, 0.0225, "N")),
+        daqmx_obj("/'DAQ'/'ai2'", n, [(3, 1, 0, 0)], [4, 2], iepe_chain(poly, 0.05, "g")),
+    ]
+    meta_objs = [obj("/", e), obj("/'DAQ'", e)] + chans
+
+    def chunk(k):  # buffer 0: rows of (ai0, ai1); buffer 1: rows of ai2
+        lo, hi = k * n, (k + 1) * n
+        rows0 = np.empty(2 * n, dtype="<i2")
+        rows0[0::2], rows0[1::2] = counts[0][lo:hi], counts[1][lo:hi]
+        return rows0.tobytes() + counts[2][lo:hi].tobytes()
+
+    DAQMX = 1 << 7
+    data = segment(META | NEW_LIST | RAW | DAQMX, meta_objs, chunk(0) + chunk(1), e)
+    data += segment(RAW | DAQMX, [], chunk(2), e)
+    with open(D + "handmade_daqmx.tdms", "wb") as f:
+        f.write(data)
+
+
+def write_scaled_i16():
+    e = "<"
+    x = (np.arange(800) * 97 % 4001 - 2000).astype("<i2")
+    props = [("NI_Scaling_Status", "unscaled"), ("NI_Number_Of_Scales", 1),
+             ("NI_Scale[0]_Scale_Type", "Linear"), ("NI_Scale[0]_Linear_Slope", 0.0025),
+             ("NI_Scale[0]_Linear_Y_Intercept", 0.125),
+             ("NI_Scale[0]_Linear_Input_Source", 0xFFFFFFFF),
+             ("unit_string", "g"), ("wf_increment", 1.0 / 4096)]
+    objs = [obj("/", e), obj("/'Raw'", e), obj("/'Raw'/'acc'", e, (2, len(x)), props)]
+    with open(D + "handmade_scaled_i16.tdms", "wb") as f:
+        f.write(segment(META | NEW_LIST | RAW, objs, x.tobytes(), e))
+
+
 def expected():
     out = {}
-    for name in ["nptdms_writer.tdms", "nptdms_timestamps.tdms", "handmade_big_endian.tdms"]:
+    for name in ["nptdms_writer.tdms", "nptdms_timestamps.tdms", "handmade_big_endian.tdms",
+                 "handmade_daqmx.tdms", "handmade_scaled_i16.tdms"]:
         chans = {}
         for g in TdmsFile.read(D + name).groups():
             for c in g.channels():
@@ -148,4 +226,6 @@ def expected():
 
 write_nptdms()
 write_handmade()
+write_daqmx()
+write_scaled_i16()
 expected()

@@ -1,5 +1,4 @@
-//! NI TDMS files (LabVIEW, DIAdem, NI-DAQmx's scaled logging, and the loggers that export to
-//! TDMS), version 4712 and 4713, either byte order, contiguous or interleaved raw data, with the
+//! NI TDMS files (LabVIEW, DIAdem, NI-DAQmx logging, and the loggers that export to TDMS), version 4712 and 4713, either byte order, contiguous or interleaved raw data, with the
 //! object list and raw data indexes carried from segment to segment.
 //!
 //! Hand-written: the Rust TDMS crates either return raw bytes only (`tdms`) or read
@@ -18,8 +17,13 @@
 //! - channels of strings, booleans and complex values are listed as not read, as are
 //!   channels whose length differs from the others'.
 //!
-//! DAQmx raw data (unscaled integers with their scalers) is refused with the way out.
+//! - DAQmx raw data (NI-DAQmx logging: unscaled integers in each card's interleaved rows) is
+//!   read through each channel's scaler ([`daqmx`]); a scaling chain stated in the properties
+//!   (channel, else group, else file) is applied ([`scaling`]), and a channel whose scaling
+//!   satqual cannot apply is listed as not read rather than returned in counts.
 
+mod daqmx;
+mod scaling;
 mod segments;
 mod values;
 
@@ -38,10 +42,13 @@ pub fn looks_like_tdms(head: &[u8]) -> bool {
 /// Channel properties that state a unit, most specific first.
 const UNIT_PROPERTIES: [&str; 4] = ["unit_string", "NI_UnitDescription", "unit", "Unit"];
 
-/// One channel object with its display name.
+/// One channel object with its display name, and the properties of its group and of the file
+/// (a scaling may be stated there).
 struct Channel<'a> {
     name: String,
     object: &'a Object,
+    group: Option<&'a Object>,
+    file: Option<&'a Object>,
 }
 
 /// What was found among the channels.
@@ -52,6 +59,8 @@ struct Found {
     times: Option<(Vec<f64>, String)>,
     ignored: Vec<String>,
     unreadable: Vec<(String, String)>,
+    /// Channels scaled by the NI scaling of their properties, and how.
+    scaled: Vec<String>,
 }
 
 /// Reads the channels of a TDMS file. The rate is the one the `wanted` channels share (all
@@ -66,6 +75,10 @@ pub fn read_tdms(
         message: format!("TDMS: {e}"),
     })?;
     let channels = channel_objects(&parsed.objects);
+    let daqmx = channels
+        .iter()
+        .filter(|c| c.object.daqmx_scale_id.is_some())
+        .count();
     let mut f = Found::default();
     for ch in &channels {
         collect(ch, &mut f);
@@ -88,6 +101,19 @@ pub fn read_tdms(
         parsed.segments,
         f.series.len()
     )];
+    if daqmx > 0 {
+        notes.push(format!(
+            "{}: {daqmx} channel(s) of DAQmx raw data",
+            path.display()
+        ));
+    }
+    if !f.scaled.is_empty() {
+        notes.push(format!(
+            "{}: scaled by the NI scaling in their properties: {}",
+            path.display(),
+            f.scaled.join("; ")
+        ));
+    }
     notes.extend(
         parsed
             .notes
@@ -114,6 +140,12 @@ fn channel_objects(objects: &[Object]) -> Vec<Channel<'_>> {
         .map(|o| (path_names(&o.path), o))
         .filter(|(names, _)| names.len() == 2)
         .collect();
+    let file = objects.iter().find(|o| o.path == "/");
+    let group_of = |g: &str| {
+        objects
+            .iter()
+            .find(|o| path_names(&o.path).as_slice() == [g])
+    };
     named
         .iter()
         .map(|(names, object)| {
@@ -123,7 +155,12 @@ fn channel_objects(objects: &[Object]) -> Vec<Channel<'_>> {
             } else {
                 names[1].clone()
             };
-            Channel { name, object }
+            Channel {
+                name,
+                object,
+                group: group_of(&names[0]),
+                file,
+            }
         })
         .collect()
 }
@@ -185,7 +222,7 @@ fn collect(ch: &Channel, f: &mut Found) {
     }
     match &o.data {
         Data::None => f.ignored.push(format!("`{}` (no values)", ch.name)),
-        Data::Skipped(t) => f.ignored.push(format!("`{}` ({})", ch.name, t.describe())),
+        Data::Skipped(what) => f.ignored.push(format!("`{}` ({what})", ch.name)),
         Data::Times(ticks) if f.times.is_none() => {
             let t0 = ticks.first().copied().unwrap_or(0);
             let t = ticks
@@ -203,13 +240,29 @@ fn collect(ch: &Channel, f: &mut Found) {
                 f.times = Some((v.iter().map(|x| x * k).collect(), ch.name.clone()));
             }
             _ => {
+                let levels: Vec<&[(String, PropValue)]> = [Some(o), ch.group, ch.file]
+                    .into_iter()
+                    .flatten()
+                    .map(|o| o.properties.as_slice())
+                    .collect();
+                let values = match scaling::apply(&levels, o.daqmx_scale_id, v) {
+                    Ok(None) => v.clone(),
+                    Ok(Some((scaled, chain))) => {
+                        f.scaled.push(format!("`{}` ({chain})", ch.name));
+                        scaled
+                    }
+                    Err(why) => {
+                        f.ignored.push(format!("`{}` ({why})", ch.name));
+                        return;
+                    }
+                };
                 if let Some(dt) = number(o, "wf_increment").filter(|d| d.is_finite() && *d > 0.0) {
                     f.increments.push((ch.name.clone(), dt));
                 }
                 f.series.push(Series {
                     name: ch.name.clone(),
                     unit_label: unit_label(o),
-                    values: v.clone(),
+                    values,
                 });
             }
         },

@@ -4,6 +4,7 @@
 
 use std::collections::HashMap;
 
+use super::daqmx::{self, DaqmxIndex};
 use super::values::{Cursor, DataType, PropValue, real_value, timestamp_ticks};
 
 const TOC_META_DATA: u32 = 1 << 1;
@@ -17,7 +18,6 @@ const LEAD_IN: usize = 28;
 /// Raw data index headers with a meaning of their own.
 const NO_DATA: u32 = 0xFFFF_FFFF;
 const SAME_AS_BEFORE: u32 = 0;
-const DAQMX_SCALERS: [u32; 2] = [0x6912_0000, 0x6913_0000];
 
 /// How many values of which type an object holds per chunk of a segment.
 #[derive(Debug, Clone, PartialEq)]
@@ -26,10 +26,15 @@ pub struct RawIndex {
     pub count: u64,
     /// Bytes per chunk, for strings (the index states it).
     pub text_bytes: Option<u64>,
+    /// Where a DAQmx channel's values sit in the buffers' rows.
+    pub daqmx: Option<DaqmxIndex>,
 }
 
 impl RawIndex {
     fn bytes(&self) -> Option<u64> {
+        if self.daqmx.is_some() {
+            return None;
+        }
         match self.text_bytes {
             Some(b) => Some(b),
             None => self.count.checked_mul(self.data_type.size()? as u64),
@@ -52,8 +57,8 @@ pub enum Data {
     Reals(Vec<f64>),
     /// Timestamps in 2^-64 s.
     Times(Vec<i128>),
-    /// Values of a type not read as a channel (strings, booleans, complex).
-    Skipped(DataType),
+    /// Values not read as a channel (strings, booleans, complex): what they are.
+    Skipped(String),
 }
 
 /// A group, a channel or the file object: its path, properties and values.
@@ -64,6 +69,9 @@ pub struct Object {
     pub data: Data,
     /// The segment where its data type changed, if it did (its values are then not read).
     pub type_changed: Option<String>,
+    /// The scale id of a DAQmx channel's scaler: its values are unscaled until the scaling
+    /// stated in the properties is applied.
+    pub daqmx_scale_id: Option<u32>,
 }
 
 /// A whole file read: its objects in the order they first appear, and notes.
@@ -116,9 +124,6 @@ pub fn parse(bytes: &[u8]) -> Result<Parsed, String> {
             }
         };
         let at = |e: String| format!("segment {} (byte {}): {e}", seg.number, seg.start);
-        if seg.toc & TOC_DAQMX_RAW_DATA != 0 {
-            return Err(at(daqmx_message()));
-        }
         if seg.toc & TOC_META_DATA != 0 {
             metadata(bytes, &seg, &mut st).map_err(at)?;
             st.seen_metadata = true;
@@ -142,13 +147,6 @@ pub fn parse(bytes: &[u8]) -> Result<Parsed, String> {
         big_endian: big,
         notes: st.notes,
     })
-}
-
-fn daqmx_message() -> String {
-    "DAQmx raw data (NI-DAQmx logging: unscaled integers with the scaling stored beside them), \
-     which satqual does not read: export the scaled channels (DIAdem, or LabVIEW's TDMS File \
-     Viewer) to a TDMS, CSV or MAT file"
-        .into()
 }
 
 /// The lead-in at `pos`; `None` when fewer than 28 bytes are left.
@@ -232,7 +230,16 @@ fn metadata(bytes: &[u8], seg: &Segment, st: &mut State) -> Result<(), String> {
                     ));
                 }
             },
-            h if DAQMX_SCALERS.contains(&h) => return Err(daqmx_message()),
+            daqmx::FORMAT_CHANGING | daqmx::DIGITAL_LINE => {
+                let (data_type, count, ix) = daqmx::read_index(&mut c, header, &path)?;
+                let index = RawIndex {
+                    data_type,
+                    count,
+                    text_bytes: None,
+                    daqmx: Some(ix),
+                };
+                (Some(index), true)
+            }
             _ => (Some(raw_index(&mut c, &path)?), true),
         };
         if let Some(ix) = &index {
@@ -273,6 +280,7 @@ fn raw_index(c: &mut Cursor, path: &str) -> Result<RawIndex, String> {
         data_type,
         count,
         text_bytes,
+        daqmx: None,
     })
 }
 
@@ -285,6 +293,7 @@ fn object_mut<'s>(st: &'s mut State, path: &str) -> &'s mut Object {
                 properties: Vec::new(),
                 data: Data::None,
                 type_changed: None,
+                daqmx_scale_id: None,
             });
             st.objects.len() - 1
         }
@@ -314,6 +323,9 @@ fn data_objects(st: &State) -> Vec<(String, RawIndex)> {
 /// once (one after another, or interleaved value by value).
 fn raw_data(bytes: &[u8], seg: &Segment, st: &mut State) -> Result<(), String> {
     let objs = data_objects(st);
+    if seg.toc & TOC_DAQMX_RAW_DATA != 0 {
+        return daqmx_raw_data(bytes, seg, &objs, st);
+    }
     let mut chunk: u64 = 0;
     for (path, ix) in &objs {
         let b = ix.bytes().ok_or_else(|| {
@@ -412,7 +424,7 @@ fn append(st: &mut State, path: &str, ix: &RawIndex, block: &[u8], big: bool, se
         (Data::None, _) => true,
         (Data::Reals(_), t) => t.is_real(),
         (Data::Times(_), DataType::Timestamp) => true,
-        (Data::Skipped(t), u) => *t == u,
+        (Data::Skipped(t), u) => *t == u.describe(),
         _ => false,
     };
     if !same_kind && o.type_changed.is_none() {
@@ -439,6 +451,80 @@ fn append(st: &mut State, path: &str, ix: &RawIndex, block: &[u8], big: bool, se
                 _ => o.data = Data::Times(ticks.collect()),
             }
         }
-        other => o.data = Data::Skipped(other),
+        other => o.data = Data::Skipped(other.describe()),
+    }
+}
+
+/// Reads the raw data of a DAQmx segment: whole chunks of every buffer's rows.
+fn daqmx_raw_data(
+    bytes: &[u8],
+    seg: &Segment,
+    objs: &[(String, RawIndex)],
+    st: &mut State,
+) -> Result<(), String> {
+    let mut daq = Vec::new();
+    for (path, ix) in objs {
+        match &ix.daqmx {
+            Some(d) => daq.push((path.as_str(), ix.count, d)),
+            None => {
+                return Err(format!(
+                    "DAQmx raw data, but `{path}` has a plain raw data index"
+                ));
+            }
+        }
+    }
+    let dims = daqmx::buffers(&daq)?;
+    let chunk = dims
+        .iter()
+        .try_fold(0u64, |sum, &(rows, width)| {
+            rows.checked_mul(width as u64)
+                .and_then(|b| sum.checked_add(b))
+        })
+        .ok_or_else(|| "the chunk size overflows".to_string())?;
+    let avail = (seg.end - seg.data_start) as u64;
+    if chunk == 0 {
+        return Ok(());
+    }
+    if !avail.is_multiple_of(chunk) {
+        st.notes.push(format!(
+            "segment {} (byte {}): its last {} bytes of DAQmx data are not a whole chunk of {chunk} bytes: not read",
+            seg.number,
+            seg.start,
+            avail % chunk
+        ));
+    }
+    let mut c = Cursor::new(
+        bytes,
+        seg.data_start,
+        seg.end,
+        seg.toc & TOC_BIG_ENDIAN != 0,
+    );
+    for _ in 0..avail / chunk {
+        let values = daqmx::read_chunk(&mut c, &daq, &dims)?;
+        for ((path, _, d), v) in daq.iter().zip(values) {
+            append_daqmx(st, path, d, v, seg.number);
+        }
+    }
+    Ok(())
+}
+
+/// Appends a DAQmx channel's unscaled values; a channel of several scalers is not read.
+fn append_daqmx(st: &mut State, path: &str, d: &DaqmxIndex, values: Vec<f64>, segment: usize) {
+    let o = object_mut(st, path);
+    if o.type_changed.is_some() {
+        return;
+    }
+    let id = d.scalers.first().map(|s| s.scale_id);
+    if d.scalers.len() != 1 {
+        o.data = Data::Skipped(format!("{} DAQmx scalers", d.scalers.len()));
+        return;
+    }
+    match (&mut o.data, o.daqmx_scale_id) {
+        (Data::None, _) => {
+            o.data = Data::Reals(values);
+            o.daqmx_scale_id = id;
+        }
+        (Data::Reals(v), Some(before)) if Some(before) == id => v.extend(values),
+        _ => o.type_changed = Some(format!("its DAQmx scaler changes in segment {segment}")),
     }
 }
