@@ -16,7 +16,8 @@ Two writers, so that satqual is not checked against its own reading of the forma
   LabVIEW's raw writes leave it).
 Every file is then read with npTDMS, and `expected.json` holds, per file and channel, the
 values npTDMS reads (RMS, first and last value, count; scaled where the file states a scaling)
-and the properties satqual uses.
+and the properties satqual uses. First and last values are written as text (Python's repr),
+which a correctly rounding parser reads back to the same bits.
 
 Run from the repository root:  python3 data/format-refs/tdms/make_tdms.py
 Versions used: numpy 2.4.6, npTDMS 1.13.0.
@@ -213,7 +214,8 @@ def expected():
                 entry = {"group": g.name, "count": int(len(v)), "dtype": str(v.dtype)}
                 if v.dtype.kind in "fiu":
                     x = v.astype(float)
-                    entry.update(rms=float(np.sqrt(np.mean(x * x))), first=float(x[0]), last=float(x[-1]))
+                    entry.update(rms=float(np.sqrt(np.mean(x * x))), first=repr(float(x[0])),
+                                 last=repr(float(x[-1])))
                 for key in ["wf_increment", "unit_string", "NI_UnitDescription"]:
                     if key in c.properties:
                         entry[key] = c.properties[key]
@@ -224,8 +226,38 @@ def expected():
         f.write("\n")
 
 
+def nptdms_test_files():
+    """npTDMS ships four TDMS files written by LabVIEW and NI-DAQmx in its test folder (raw1:
+    DAQmx data with linear scales; big_endian: a LabVIEW example; Digital_Input: SignalExpress,
+    three rates in nine segments; raw_timestamps). They are LGPL-3.0 and stay in the installed
+    package: `nptdms_testdata.json` holds npTDMS's reading of them and their sizes, and the
+    test reads them where npTDMS is installed (pip install npTDMS==1.13.0)."""
+    import os
+    import nptdms
+    folder = os.path.join(os.path.dirname(nptdms.__file__), "test", "data")
+    out = {}
+    for name in ["raw1.tdms", "big_endian.tdms", "Digital_Input.tdms", "raw_timestamps.tdms"]:
+        path = os.path.join(folder, name)
+        f = TdmsFile.read(path)
+        channels = [(g.name, c) for g in f.groups() for c in g.channels()]
+        chans = {}
+        for group, c in channels:
+            shared = sum(1 for _, d in channels if d.name == c.name) > 1
+            v = c[:].astype(float)
+            chans[group + "/" + c.name if shared else c.name] = {
+                "count": int(len(v)), "first": repr(float(v[0])), "last": repr(float(v[-1])),
+                "rms": float(np.sqrt(np.mean(v * v))),
+                "wf_increment": c.properties.get("wf_increment")}
+        out[name] = {"bytes": os.path.getsize(path), "channels": chans}
+    with open(D + "nptdms_testdata.json", "w") as fh:
+        json.dump({"reader": "npTDMS 1.13.0", "folder": "nptdms/test/data", "files": out},
+                  fh, indent=1, sort_keys=True)
+        fh.write("\n")
+
+
 write_nptdms()
 write_handmade()
 write_daqmx()
 write_scaled_i16()
 expected()
+nptdms_test_files()

@@ -270,7 +270,8 @@ fn collect(ch: &Channel, f: &mut Found) {
 }
 
 /// The sampling rate: the time vector, else the `wf_increment` most of the wanted channels
-/// share (the channels of another increment are not readable with them), else none.
+/// share, the first channel's on a tie (the channels of another increment are not readable
+/// with them), else none.
 fn rate(f: &mut Found, wanted: Option<&[String]>) -> Rate {
     if let Some((t, name)) = &f.times {
         return Rate::Times(t.clone(), name.clone());
@@ -283,7 +284,9 @@ fn rate(f: &mut Found, wanted: Option<&[String]>) -> Rate {
             None => counts.push((*dt, 1, name)),
         }
     }
-    let Some(&(dt, _, first)) = counts.iter().max_by_key(|c| c.1) else {
+    // On a tie, the first channel's increment (counts are in file order).
+    let best = counts.iter().rev().max_by_key(|c| c.1);
+    let Some(&(dt, _, first)) = best else {
         return Rate::Unknown;
     };
     let from = format!("the wf_increment property of `{first}`");
