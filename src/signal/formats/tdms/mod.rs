@@ -23,6 +23,7 @@
 //!   satqual cannot apply is listed as not read rather than returned in counts.
 
 mod daqmx;
+mod raw;
 mod scaling;
 mod segments;
 mod values;
