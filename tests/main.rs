@@ -59,6 +59,7 @@ mod signal_impact;
 mod signal_ingest;
 mod signal_proptest;
 mod signal_psd_cli;
+mod signal_psd_table;
 mod signal_signature;
 mod signal_srs;
 mod signal_sweep;

@@ -132,7 +132,7 @@ fn resolution_warnings(
     wopts: &WelchOptions,
     profile_band: Option<(f64, f64)>,
 ) -> Vec<String> {
-    if run.psd.source == PsdSource::UffPsd {
+    if run.psd.source.is_read_spectrum() {
         return Vec::new();
     }
     let fs = run.psd.fs_hz;
@@ -161,6 +161,10 @@ fn summary(args: &Args, run: &PsdRun, wopts: &WelchOptions) -> Vec<String> {
         res.fs_hz,
         match res.source {
             PsdSource::UffPsd => "PSD read from UFF58".to_string(),
+            PsdSource::TablePsd => format!(
+                "PSD read from a table ({} Hz lines)",
+                satqual::signal::welch::round_to_micro(first.psd.df)
+            ),
             _ => format!(
                 "Welch nperseg {} ({} Hz lines), {} window, {} segments",
                 wopts.nperseg,
@@ -240,7 +244,7 @@ fn document(args: &Args, run: &PsdRun, wopts: &WelchOptions, pass: bool) -> serd
         }))
         .collect();
     let info = res.info.as_ref();
-    let welch = res.source != PsdSource::UffPsd;
+    let welch = !res.source.is_read_spectrum();
     json!({
         "file": args.log,
         "source": res.source,

@@ -1,12 +1,14 @@
 //! PSD of every selected channel of a log file: the `psd` command's analysis, reusable by the
 //! `qualify` pipeline. A CSV log is streamed through [`WelchStream`] (memory flat in the file
 //! length); a UFF58 file gives either time histories (function type 1, sent through Welch) or
-//! spectra already computed by a controller (function type 9, PSD), taken as they are.
+//! spectra already computed by a controller (function type 9, PSD), taken as they are, as is
+//! a text table of spectral densities over frequency (a controller's CSV export).
 
 use super::bands::rms_of;
 use super::formats::{LogFormat, detect, read_log};
 use super::ingest::Log;
 use super::ingest::{IngestOptions, LogInfo, stream_csv};
+use super::psd_table::{TableChannel, read_psd_table};
 use super::uff::{ordinate_unit, read_uff58};
 use super::welch::{Psd, WelchOptions, WelchStream, welch};
 use crate::error::SignalError;
@@ -26,6 +28,15 @@ pub enum PsdSource {
     Welch,
     /// A PSD record read from UFF58 as it is.
     UffPsd,
+    /// A PSD read as it is from a text table of spectral densities (a controller's export).
+    TablePsd,
+}
+
+impl PsdSource {
+    /// A spectrum read from the file, not computed from a time history.
+    pub fn is_read_spectrum(self) -> bool {
+        matches!(self, PsdSource::UffPsd | PsdSource::TablePsd)
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -86,7 +97,11 @@ pub fn psd_of_file(
         LogFormat::Lvm | LogFormat::Mat | LogFormat::Tdms => {
             return psd_of_log(read_log(path, ingest)?, opts);
         }
-        LogFormat::Csv => {}
+        LogFormat::Csv => {
+            if let Some(table) = read_psd_table(path, ingest)? {
+                return psd_of_table(path, table);
+            }
+        }
     }
     // Names are known only once the header is read: the stream is built on the first row.
     let mut stream: Option<WelchStream> = None;
@@ -146,6 +161,28 @@ pub fn psd_of_file(
         source: PsdSource::CsvWelch,
         fs_hz: info.fs_hz,
         info: Some(info),
+        channels,
+    })
+}
+
+/// The PSDs of a table, as they are.
+fn psd_of_table(path: &Path, table: Vec<TableChannel>) -> Result<LogPsd, SignalError> {
+    let channels: Vec<ChannelPsd> = table
+        .into_iter()
+        .map(|TableChannel { name, unit, psd }| ChannelPsd {
+            name,
+            unit: unit.reported().into(),
+            grms: rms_of(&psd.frequencies(), &psd.values),
+            psd,
+            rms: None,
+            samples: 0,
+        })
+        .collect();
+    let channels = finite_channels(path, channels)?;
+    Ok(LogPsd {
+        source: PsdSource::TablePsd,
+        fs_hz: channels.first().map_or(0.0, |c| c.psd.fs),
+        info: None,
         channels,
     })
 }

@@ -24,6 +24,7 @@ pub mod impact_windows;
 pub mod ingest;
 pub mod logpsd;
 pub mod peaks;
+pub mod psd_table;
 pub mod screen;
 pub mod signature;
 pub mod srs;

@@ -5,7 +5,8 @@
 //! preamble, units row) is the log reader's ([`crate::signal::ingest::sniff`]).
 
 use crate::error::SignalError;
-use crate::signal::ingest::sniff::{Dialect, number, sniff_dialect, split_fields};
+use crate::signal::ingest::freq_table::{data_rows, is_frequency_column, sniff_head};
+use crate::signal::ingest::sniff::Dialect;
 use realfft::num_complex::Complex64;
 use std::path::Path;
 
@@ -32,26 +33,9 @@ enum Part {
     Phase(f64),
 }
 
-/// Whether a header cell names a frequency column (`f`, `freq`, `Frequency [Hz]`, `Frequenz`).
-pub fn is_frequency_column(name: &str) -> bool {
-    let n = stem_of_unit(&name.to_lowercase());
-    let n = n.trim().trim_end_matches("_hz").trim_end_matches(" hz");
-    matches!(
-        n.trim(),
-        "f" | "freq" | "frequency" | "frequenz" | "fréquence" | "frequence" | "hz"
-    )
-}
-
-/// A name without a trailing unit in brackets (`frequency [hz]` -> `frequency`).
-fn stem_of_unit(n: &str) -> String {
-    for (open, close) in [('[', ']'), ('(', ')')] {
-        if let Some(inner) = n.trim_end().strip_suffix(close)
-            && let Some(i) = inner.rfind(open)
-        {
-            return inner[..i].trim_end().to_string();
-        }
-    }
-    n.to_string()
+/// Whether a header cell names a part of an FRF (`acc_re`, `Im(acc)`, `acc_mag`).
+pub fn names_frf_part(name: &str) -> bool {
+    part_of(name).is_some()
 }
 
 /// The FRF a column belongs to and the part it carries, from its header cell.
@@ -136,7 +120,7 @@ pub fn read_frf_table(path: &Path) -> Result<Option<FrfTable>, SignalError> {
         message: format!("cannot read: {e}"),
     })?;
     let pairs = pair_columns(path, &dialect, &header)?;
-    let rows = data_rows(path, &bytes, &dialect)?;
+    let rows = data_rows(path, &bytes, &dialect, "FRF table")?;
     let freqs: Vec<f64> = rows.iter().map(|(_, r)| r[0]).collect();
     if let Some(w) = rows.windows(2).find(|w| w[1].1[0] <= w[0].1[0]) {
         return Err(err(
@@ -165,13 +149,7 @@ pub fn read_frf_table(path: &Path) -> Result<Option<FrfTable>, SignalError> {
 /// The dialect and header of a file whose header starts with a frequency column and names some
 /// part of an FRF; `None` for anything else.
 fn table_header(path: &Path) -> Option<(Dialect, Vec<String>)> {
-    use std::io::Read;
-    const HEAD: u64 = 64 * 1024;
-    let mut head = Vec::new();
-    let file = std::fs::File::open(path).ok()?;
-    file.take(HEAD).read_to_end(&mut head).ok()?;
-    let eof = (head.len() as u64) < HEAD;
-    let dialect = sniff_dialect(&head, eof)?;
+    let dialect = sniff_head(path)?;
     let header = dialect.header.clone()?;
     let is_table = header.first().is_some_and(|h| is_frequency_column(h))
         && header[1..].iter().any(|h| part_of(h).is_some());
@@ -267,53 +245,10 @@ fn pair_columns(
     Ok(pairs)
 }
 
-/// Every data row, as numbers, with its line.
-fn data_rows(
-    path: &Path,
-    bytes: &[u8],
-    dialect: &Dialect,
-) -> Result<Vec<(u64, Vec<f64>)>, SignalError> {
-    let text = String::from_utf8_lossy(&bytes[dialect.data_offset..]);
-    let mut rows = Vec::new();
-    for (k, l) in text.lines().enumerate() {
-        let line = dialect.data_line + k as u64;
-        if l.trim().is_empty() {
-            continue;
-        }
-        let fields = split_fields(l, dialect.delimiter);
-        let mut values = Vec::with_capacity(fields.len());
-        for (c, f) in fields.iter().enumerate() {
-            if dialect.empty_columns.contains(&c) && f.is_empty() {
-                values.push(0.0);
-                continue;
-            }
-            let v = number(f, dialect.decimal_comma).ok_or_else(|| {
-                err(
-                    path,
-                    line,
-                    format!("column {}: `{f}` is not a finite number", c + 1),
-                )
-            })?;
-            values.push(v);
-        }
-        if values.len() != dialect.width {
-            return Err(err(
-                path,
-                line,
-                format!("{} fields, the header has {}", values.len(), dialect.width),
-            ));
-        }
-        rows.push((line, values));
-    }
-    if rows.is_empty() {
-        return Err(err(path, dialect.header_line, "an FRF table with no rows"));
-    }
-    Ok(rows)
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{Part, is_frequency_column, part_of};
+    use super::{Part, part_of};
+    use crate::signal::ingest::freq_table::is_frequency_column;
 
     #[test]
     fn frequency_columns_as_exports_name_them() {

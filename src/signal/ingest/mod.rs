@@ -15,6 +15,7 @@
 //! newline is not supported (numeric logs have none). Numbers are parsed by `fast-float2`.
 
 pub mod bandlimit;
+pub mod freq_table;
 pub mod iso8601;
 mod plausible_rate;
 mod preamble_rate;

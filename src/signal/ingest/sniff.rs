@@ -295,11 +295,12 @@ fn header_above(
     Some((Some(lower), Some(last), None))
 }
 
-/// Units rows hold short unit words: `s`, `g`, `m/s^2`, `[V]`, `(N)`.
+/// Units rows hold short unit words: `s`, `g`, `m/s^2`, `[V]`, `(N)`, and the spectral
+/// densities of a PSD table (`(m/s^2)^2/Hz`, 12 bytes).
 fn looks_like_units(fields: &[String]) -> bool {
     fields.iter().all(|f| {
         let t = f.trim_matches(|c| matches!(c, '[' | ']' | '(' | ')'));
-        t.len() <= 8 && !t.contains(' ') && t.parse::<f64>().is_err()
+        t.len() <= 14 && !t.contains(' ') && t.parse::<f64>().is_err()
     })
 }
 
