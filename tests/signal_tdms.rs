@@ -5,7 +5,7 @@
 
 use crate::common::{repo_path, run_text};
 use satqual::signal::formats::tdms::read_tdms;
-use satqual::signal::ingest::{IngestOptions, Unit};
+use satqual::signal::ingest::{IngestOptions, Log, Unit};
 use satqual::signal::read_log;
 use std::path::{Path, PathBuf};
 
@@ -68,17 +68,19 @@ fn every_real_channel_reads_as_nptdms_reads_it() {
     assert_eq!(checked, 11, "channels compared");
 }
 
-#[test]
-fn units_rate_and_what_is_not_read_come_from_the_properties() {
-    let log = read_log(&tdms("nptdms_writer.tdms"), &IngestOptions::default()).unwrap();
-    let names: Vec<(&str, Unit)> = log
-        .info
+fn names_and_units(log: &Log) -> Vec<(&str, Unit)> {
+    log.info
         .channels
         .iter()
         .map(|c| (c.name.as_str(), c.unit))
-        .collect();
+        .collect()
+}
+
+#[test]
+fn units_rate_and_what_is_not_read_come_from_the_properties() {
+    let log = read_log(&tdms("nptdms_writer.tdms"), &IngestOptions::default()).unwrap();
     assert_eq!(
-        names,
+        names_and_units(&log),
         [
             ("Acc ctrl", Unit::G),
             ("Acc resp", Unit::MPerS2),
@@ -122,14 +124,8 @@ fn big_endian_interleaved_and_unfinished_segments_are_noted() {
 #[test]
 fn daqmx_channels_are_scaled_by_the_chain_in_their_properties() {
     let log = read_log(&tdms("handmade_daqmx.tdms"), &IngestOptions::default()).unwrap();
-    let units: Vec<(&str, Unit)> = log
-        .info
-        .channels
-        .iter()
-        .map(|c| (c.name.as_str(), c.unit))
-        .collect();
     assert_eq!(
-        units,
+        names_and_units(&log),
         [("ai0", Unit::G), ("ai1", Unit::AsIs), ("ai2", Unit::G)]
     );
     assert_eq!(log.info.fs_hz, 25600.0);

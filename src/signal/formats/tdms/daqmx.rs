@@ -50,14 +50,7 @@ pub fn read_index(
     header: u32,
     path: &str,
 ) -> Result<(DataType, u64, DaqmxIndex), String> {
-    let data_type = DataType::from_code(c.u32()?);
-    let dimension = c.u32()?;
-    if dimension != 1 {
-        return Err(format!(
-            "object `{path}` has array dimension {dimension}; TDMS allows only 1"
-        ));
-    }
-    let count = c.u64()?;
+    let (data_type, count) = c.index_head(path)?;
     let n = c.u32()?;
     let mut scalers = Vec::new();
     for _ in 0..n {

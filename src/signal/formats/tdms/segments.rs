@@ -265,14 +265,7 @@ fn metadata(bytes: &[u8], seg: &Segment, st: &mut State) -> Result<(), String> {
 }
 
 fn raw_index(c: &mut Cursor, path: &str) -> Result<RawIndex, String> {
-    let data_type = DataType::from_code(c.u32()?);
-    let dimension = c.u32()?;
-    if dimension != 1 {
-        return Err(format!(
-            "object `{path}` has array dimension {dimension}; TDMS allows only 1"
-        ));
-    }
-    let count = c.u64()?;
+    let (data_type, count) = c.index_head(path)?;
     let text_bytes = match data_type {
         DataType::Text => Some(c.u64()?),
         _ => None,

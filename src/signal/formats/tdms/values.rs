@@ -199,6 +199,19 @@ impl<'a> Cursor<'a> {
         Ok(String::from_utf8_lossy(self.take(n)?).into_owned())
     }
 
+    /// The start of every raw data index: the data type, the array dimension (1: TDMS has
+    /// no other) and the number of values per chunk.
+    pub fn index_head(&mut self, path: &str) -> Result<(DataType, u64), String> {
+        let data_type = DataType::from_code(self.u32()?);
+        let dimension = self.u32()?;
+        if dimension != 1 {
+            return Err(format!(
+                "object `{path}` has array dimension {dimension}; TDMS allows only 1"
+            ));
+        }
+        Ok((data_type, self.u64()?))
+    }
+
     /// One property: its name, type code and value.
     pub fn property(&mut self) -> Result<(String, PropValue), String> {
         let name = self.string()?;
