@@ -65,6 +65,7 @@ mod signal_srs;
 mod signal_sweep;
 mod signal_tdms;
 mod signal_timing;
+mod signal_wav;
 mod signal_welch;
 mod update;
 mod update_damping;

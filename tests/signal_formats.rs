@@ -88,6 +88,7 @@ fn formats_are_told_by_content() {
         f("data/format-refs/tdms/handmade_big_endian.tdms"),
         LogFormat::Tdms
     );
+    assert_eq!(f("data/format-refs/wav/wave_pcm24_2ch.wav"), LogFormat::Wav);
 }
 
 #[test]

@@ -24,7 +24,7 @@ pub enum PsdSource {
     CsvWelch,
     /// Welch on a UFF58 time history.
     UffWelch,
-    /// Welch on a log read whole (LabVIEW .lvm, MATLAB .mat, TDMS).
+    /// Welch on a log read whole (LabVIEW .lvm, MATLAB .mat, TDMS, WAV).
     Welch,
     /// A PSD record read from UFF58 as it is.
     UffPsd,
@@ -94,7 +94,7 @@ pub fn psd_of_file(
     opts.validate()?;
     match detect(path) {
         LogFormat::Uff => return psd_of_uff(path, ingest, opts),
-        LogFormat::Lvm | LogFormat::Mat | LogFormat::Tdms => {
+        LogFormat::Lvm | LogFormat::Mat | LogFormat::Tdms | LogFormat::Wav => {
             return psd_of_log(read_log(path, ingest)?, opts);
         }
         LogFormat::Csv => {
@@ -187,7 +187,7 @@ fn psd_of_table(path: &Path, table: Vec<TableChannel>) -> Result<LogPsd, SignalE
     })
 }
 
-/// Welch on every channel of a log read whole (LabVIEW .lvm, MATLAB .mat, TDMS).
+/// Welch on every channel of a log read whole (LabVIEW .lvm, MATLAB .mat, TDMS, WAV).
 fn psd_of_log(log: Log, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
     let fs = log.info.fs_hz;
     let channels: Vec<ChannelPsd> = log

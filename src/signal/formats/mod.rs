@@ -1,12 +1,13 @@
 //! Which format a log file is in, and reading any of them into a [`Log`]: CSV-like text
 //! ([`crate::signal::ingest`], streamed), UFF58/58b time histories ([`crate::signal::uff`]),
-//! LabVIEW `.lvm` ([`lvm`]), MATLAB level 5 `.mat` ([`mat`]) and NI TDMS ([`tdms`]). The
-//! format is told by the file's first bytes, never by its extension.
+//! LabVIEW `.lvm` ([`lvm`]), MATLAB level 5 `.mat` ([`mat`]), NI TDMS ([`tdms`]) and WAV
+//! ([`wav`]). The format is told by the file's first bytes, never by its extension.
 
 pub mod lvm;
 pub mod mat;
 pub mod table;
 pub mod tdms;
+pub mod wav;
 
 use crate::error::SignalError;
 use crate::signal::ingest::{IngestOptions, Log, Unit, read_csv};
@@ -28,6 +29,8 @@ pub enum LogFormat {
     Mat,
     /// NI TDMS file.
     Tdms,
+    /// WAV (RIFF WAVE) file.
+    Wav,
 }
 
 /// Tells the format from the first bytes of the file (a file that cannot be opened is taken as
@@ -42,6 +45,8 @@ pub fn detect(path: &Path) -> LogFormat {
         LogFormat::Mat
     } else if tdms::looks_like_tdms(head) {
         LogFormat::Tdms
+    } else if wav::looks_like_wav(head) {
+        LogFormat::Wav
     } else if lvm::looks_like_lvm(head) {
         LogFormat::Lvm
     } else if looks_like_uff(path) {
@@ -64,6 +69,7 @@ pub fn read_log(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
         LogFormat::Csv => read_csv(path, opts),
         LogFormat::Lvm => table_to_log(path, lvm::read_lvm(path, &read_bytes(path)?)?, opts),
         LogFormat::Mat => table_to_log(path, mat::read_mat(path, &read_bytes(path)?)?, opts),
+        LogFormat::Wav => table_to_log(path, wav::read_wav(path, &read_bytes(path)?)?, opts),
         LogFormat::Tdms => {
             let wanted = opts.channels.as_deref();
             table_to_log(

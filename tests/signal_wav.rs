@@ -1,0 +1,104 @@
+//! WAV logs, read against an independent reader (scipy.io.wavfile 1.17) on files written by
+//! two writers (Python's `wave` module for PCM of 8, 16, 24 and 32 bits; scipy for floats).
+//! Files and references: data/format-refs/wav/make_wav.py.
+
+use crate::common::{repo_path, run_text};
+use satqual::signal::formats::wav::read_wav;
+use satqual::signal::ingest::IngestOptions;
+use satqual::signal::read_log;
+use std::path::{Path, PathBuf};
+
+fn wav(name: &str) -> PathBuf {
+    repo_path(&format!("data/format-refs/wav/{name}"))
+}
+
+/// A value stored as text by the reference script, read back to the same bits.
+fn exact(v: &serde_json::Value) -> f64 {
+    v.as_str().unwrap().parse().unwrap()
+}
+
+#[test]
+fn every_channel_reads_as_scipy_reads_it() {
+    let text = std::fs::read_to_string(wav("expected.json")).unwrap();
+    let refs: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut checked = 0;
+    for (file, r) in refs["files"].as_object().unwrap() {
+        let log = read_log(&wav(file), &IngestOptions::default()).unwrap();
+        assert_eq!(log.info.fs_hz, r["fs_hz"].as_f64().unwrap(), "{file}");
+        for (name, c) in r["channels"].as_object().unwrap() {
+            let k = log.info.channels.iter().position(|ch| &ch.name == name);
+            let v = &log.data[k.unwrap_or_else(|| panic!("{file}: no {name}"))];
+            // The same integers scaled by the same power of two: exact.
+            assert_eq!(
+                v.len() as u64,
+                c["count"].as_u64().unwrap(),
+                "{file} {name}"
+            );
+            assert_eq!(v[0], exact(&c["first"]), "{file} {name}");
+            assert_eq!(*v.last().unwrap(), exact(&c["last"]), "{file} {name}");
+            let rms = (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+            let want = c["rms"].as_f64().unwrap();
+            assert!((rms - want).abs() <= 1e-13 * want, "{file} {name}: {rms}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 10, "channels compared");
+}
+
+fn edited(name: &str, edit: impl Fn(&mut Vec<u8>)) -> PathBuf {
+    let mut b = std::fs::read(wav("wave_pcm16_2ch.wav")).unwrap();
+    edit(&mut b);
+    let p = crate::common::temp_dir(&format!("wav-{name}")).join(format!("{name}.wav"));
+    std::fs::write(&p, b).unwrap();
+    p
+}
+
+fn psd_error(p: &Path) -> String {
+    let (code, _, err) = run_text(&["psd", p.to_str().unwrap()], None);
+    assert_eq!(code, 2, "{err}");
+    err
+}
+
+#[test]
+fn cut_compressed_and_inconsistent_files_are_located_errors() {
+    // `wave` writes the 16-byte `fmt ` chunk at byte 12 and the `data` chunk header at 36.
+    let cut = edited("cut", |b| b.truncate(2000));
+    let e = psd_error(&cut);
+    assert!(
+        e.contains("chunk `data` at byte 36 announces 8000 bytes"),
+        "{e}"
+    );
+    let mu_law = edited("mu-law", |b| b[20] = 7);
+    assert!(psd_error(&mu_law).contains("format tag 7 (compressed audio"));
+    let frames = edited("frames", |b| b[32] = 3);
+    let e = psd_error(&frames);
+    assert!(
+        e.contains("2 channel(s) at 8000 Hz with 3-byte frames"),
+        "{e}"
+    );
+}
+
+#[test]
+fn mutated_files_give_a_log_or_an_error_never_a_panic() {
+    let original = std::fs::read(wav("wave_pcm24_2ch.wav")).unwrap();
+    let (mut read, mut refused) = (0, 0);
+    let mut run = |b: &[u8]| match read_wav(Path::new("mutant.wav"), b) {
+        Ok(_) => read += 1,
+        Err(e) => {
+            refused += 1;
+            assert!(e.to_string().contains("WAV: "), "{e}");
+        }
+    };
+    // The header and the first frames: every byte set to 0x00, 0xFF and its value + 1.
+    for i in 0..200 {
+        for v in [0u8, 0xFF, original[i].wrapping_add(1)] {
+            let mut b = original.clone();
+            b[i] = v;
+            run(&b);
+        }
+    }
+    for n in (12..original.len()).step_by(97) {
+        run(&original[..n]);
+    }
+    assert!(read > 0 && refused > 0, "read {read}, refused {refused}");
+}
