@@ -335,3 +335,26 @@ fn a_q_the_lines_cannot_resolve_is_flagged() {
         "{notes}"
     );
 }
+
+#[test]
+fn a_log_shorter_than_the_default_segment_gets_the_psd_rule() {
+    // 2000 samples: the largest power of two leaving four segment lengths is 256
+    // (`welch::short_log_nperseg`, the rule `psd` applies), said in a note; a segment the
+    // user asks for is kept, and one longer than the log is an error.
+    let log = crate::common::repo_path("data/format-refs/wav/wave_pcm16_2ch.wav");
+    let log = log.to_str().unwrap();
+    let args = ["frf", log, "--input", "ch1", "--output", "ch2", "--json"];
+    let (code, out, err) = crate::common::run_text(&args, None);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["nperseg"], 256);
+    assert!(err.contains("the shortest log has 2000 samples"), "{err}");
+    let mut long = args.to_vec();
+    long.extend(["--nperseg", "4096"]);
+    let (code, _, err) = crate::common::run_text(&long, None);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("longer than the signal (2000 samples)"),
+        "{err}"
+    );
+}

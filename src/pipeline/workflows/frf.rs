@@ -10,7 +10,7 @@ use crate::signal::impact::{ImpactPulse, detect_hits, impact_welch};
 use crate::signal::impact_windows::{HitLog, ImpactWindows, corrected_q, hit_records};
 use crate::signal::ingest::{IngestRecord, Log};
 use crate::signal::screen::{ExcitedBand, excited_band, split_by_coherence};
-use crate::signal::welch::resolution_note;
+use crate::signal::welch::{MIN_NPERSEG, resolution_note, short_log_nperseg};
 use crate::signal::{Frf, IngestOptions, PeakOptions, Resonance, WelchOptions};
 use std::path::PathBuf;
 
@@ -162,16 +162,45 @@ pub fn estimate(
                 windows: Some(windows),
             })
         }
-        None => Ok(Estimate {
-            frfs: outputs
-                .iter()
-                .map(|logs| frf_of_logs(logs, input, welch))
-                .collect::<Result<_, _>>()?,
-            welch: welch.clone(),
-            hits: None,
-            windows: None,
-        }),
+        None => {
+            let welch = short_log_welch(outputs, welch, welch_is_default, notes);
+            Ok(Estimate {
+                frfs: outputs
+                    .iter()
+                    .map(|logs| frf_of_logs(logs, input, &welch))
+                    .collect::<Result<_, _>>()?,
+                welch,
+                hits: None,
+                windows: None,
+            })
+        }
     }
+}
+
+/// The default segment is for long random tests: logs shorter than it get a shorter one, as
+/// `psd` gives them, said in a note. Options the user chose are kept (and a segment longer
+/// than the log is then an error).
+fn short_log_welch(
+    outputs: &[Vec<Log>],
+    welch: &WelchOptions,
+    welch_is_default: bool,
+    notes: &mut Vec<String>,
+) -> WelchOptions {
+    let shortest = outputs
+        .iter()
+        .flatten()
+        .map(|l| l.info.samples as usize)
+        .min()
+        .unwrap_or(0);
+    let mut w = welch.clone();
+    if welch_is_default && shortest < w.nperseg && shortest >= MIN_NPERSEG {
+        w.nperseg = short_log_nperseg(shortest);
+        notes.push(format!(
+            "the shortest log has {shortest} samples, fewer than the default segment: nperseg {} (--nperseg to choose)",
+            w.nperseg
+        ));
+    }
+    w
 }
 
 /// A note for every resonance whose half-power band (as measured, before any correction for
