@@ -96,3 +96,21 @@ fn uneven_lines_negative_levels_and_unstated_units_are_located() {
     let e = psd_error("frf", "f,acc_re,acc_im\n0,1,0\n1,1,0\n", &[]);
     assert!(e.contains("satqual ema FILE"), "{e}");
 }
+
+#[test]
+fn a_drive_density_beside_the_accelerations_is_kept_as_it_is() {
+    // A controller's columns: demand and control in G²/Hz, the drive in V²/Hz (units row).
+    let text = "Frequency,Demand,Control,Drive\nHz,G²/Hz,G²/Hz,V²/Hz\n\
+                20,0.01,0.01,0.0001\n20.5,0.01,0.01,0.0001\n21,0.01,0.01,0.0001\n";
+    let p = table("drive", text);
+    let (code, out, err) = run_text(&["psd", p.to_str().unwrap(), "--json"], None);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let units: Vec<&str> = v["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["unit"].as_str().unwrap())
+        .collect();
+    assert_eq!(units, ["g", "g", "as-is"]);
+}

@@ -36,7 +36,8 @@ fn err(file: &Path, line: u64, message: impl Into<String>) -> SignalError {
 }
 
 /// The amplitude unit of a spectral-density unit (`g^2/Hz`, `g²/Hz`, `g2_per_Hz`,
-/// `(m/s^2)^2/Hz`, `m^2/s^4/Hz`); `None` for anything else.
+/// `(m/s^2)^2/Hz`, `m^2/s^4/Hz`; `AsIs` for another quantity's, `V^2/Hz`); `None` for
+/// anything else.
 pub fn psd_amplitude_unit(text: &str) -> Option<Unit> {
     let n: String = text
         .to_lowercase()
@@ -57,7 +58,14 @@ pub fn psd_amplitude_unit(text: &str) -> Option<Unit> {
         .strip_suffix("^2")
         .or_else(|| squared.strip_suffix('2'))?;
     let amplitude = amplitude.trim_start_matches('(').trim_end_matches(')');
-    Unit::parse(amplitude).ok().filter(|u| *u != Unit::AsIs)
+    match Unit::parse(amplitude) {
+        Ok(u) => Some(u),
+        // Another quantity's density (a drive in V²/Hz, a force in N²/Hz): kept as it is.
+        Err(_) if !amplitude.is_empty() && amplitude.chars().all(char::is_alphabetic) => {
+            Some(Unit::AsIs)
+        }
+        Err(_) => None,
+    }
 }
 
 /// The spectral-density unit a column states: its bracket, its name's suffix, or the units row.
@@ -300,7 +308,10 @@ mod tests {
         ] {
             assert_eq!(psd_amplitude_unit(text), Some(unit), "{text}");
         }
-        for text in ["g", "Hz", "g rms", "dB/Hz", "V^2/Hz"] {
+        for text in ["V^2/Hz", "N²/Hz"] {
+            assert_eq!(psd_amplitude_unit(text), Some(Unit::AsIs), "{text}");
+        }
+        for text in ["g", "Hz", "g rms", "dB/Hz", "1/Hz"] {
             assert_eq!(psd_amplitude_unit(text), None, "{text}");
         }
         assert_eq!(column_unit("Control (G²/Hz)", None), Some(Unit::G));
