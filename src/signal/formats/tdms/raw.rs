@@ -48,7 +48,7 @@ pub(super) fn raw_data(bytes: &[u8], seg: &Segment, st: &mut State) -> Result<()
     }
     let chunks = avail / chunk;
     let rest = avail % chunk;
-    if rest != 0 || chunks == 0 {
+    if rest != 0 {
         st.notes.push(format!(
             "segment {} (byte {}): its last {rest} bytes of raw data are not a whole chunk of {chunk} bytes: not read",
             seg.number, seg.start
