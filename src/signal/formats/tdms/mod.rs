@@ -1,4 +1,5 @@
-//! NI TDMS files (LabVIEW, DIAdem, NI-DAQmx logging, and the loggers that export to TDMS), version 4712 and 4713, either byte order, contiguous or interleaved raw data, with the
+//! NI TDMS files (LabVIEW, DIAdem, NI-DAQmx logging, and the loggers that export to TDMS),
+//! versions 4712 and 4713, either byte order, contiguous or interleaved raw data, with the
 //! object list and raw data indexes carried from segment to segment.
 //!
 //! Hand-written: the Rust TDMS crates either return raw bytes only (`tdms`) or read
@@ -15,8 +16,7 @@
 //! - a channel of timestamps, or of reals named like a time column (`Time`, `t_ms`), is the
 //!   time vector instead;
 //! - channels of strings, booleans and complex values are listed as not read, as are
-//!   channels whose length differs from the others'.
-//!
+//!   channels whose length differs from the others';
 //! - DAQmx raw data (NI-DAQmx logging: unscaled integers in each card's interleaved rows) is
 //!   read through each channel's scaler ([`daqmx`]); a scaling chain stated in the properties
 //!   (channel, else group, else file) is applied ([`scaling`]), and a channel whose scaling
