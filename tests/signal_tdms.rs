@@ -3,7 +3,7 @@
 //! description for what TdmsWriter never writes: big-endian, interleaved, reused metadata, an
 //! unfinished last segment). Files and references: data/format-refs/tdms/make_tdms.py.
 
-use crate::common::{repo_path, run_text};
+use crate::common::{exact, psd_error, repo_path, run_text};
 use satqual::signal::formats::tdms::read_tdms;
 use satqual::signal::ingest::{IngestOptions, Log, Unit};
 use satqual::signal::read_log;
@@ -11,12 +11,6 @@ use std::path::{Path, PathBuf};
 
 fn tdms(name: &str) -> PathBuf {
     repo_path(&format!("data/format-refs/tdms/{name}"))
-}
-
-/// A value stored as text by the reference script, read back to the same bits (serde_json's
-/// default float parser may be off by one unit in the last place).
-fn exact(v: &serde_json::Value) -> f64 {
-    v.as_str().unwrap().parse().unwrap()
 }
 
 fn rms(x: &[f64]) -> f64 {
@@ -149,17 +143,7 @@ fn daqmx_channels_are_scaled_by_the_chain_in_their_properties() {
 }
 
 fn with_bytes(name: &str, file: &str, edit: impl Fn(&mut Vec<u8>)) -> PathBuf {
-    let mut b = std::fs::read(tdms(file)).unwrap();
-    edit(&mut b);
-    let p = crate::common::temp_dir(&format!("tdms-{name}")).join(format!("{name}.tdms"));
-    std::fs::write(&p, b).unwrap();
-    p
-}
-
-fn psd_error(p: &Path) -> String {
-    let (code, _, err) = run_text(&["psd", p.to_str().unwrap()], None);
-    assert_eq!(code, 2, "{err}");
-    err
+    crate::common::edited_copy(&tdms(file), name, edit)
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! two writers (Python's `wave` module for PCM of 8, 16, 24 and 32 bits; scipy for floats).
 //! Files and references: data/format-refs/wav/make_wav.py.
 
-use crate::common::{repo_path, run_text};
+use crate::common::{exact, psd_error, repo_path};
 use satqual::signal::formats::wav::read_wav;
 use satqual::signal::ingest::IngestOptions;
 use satqual::signal::read_log;
@@ -10,11 +10,6 @@ use std::path::{Path, PathBuf};
 
 fn wav(name: &str) -> PathBuf {
     repo_path(&format!("data/format-refs/wav/{name}"))
-}
-
-/// A value stored as text by the reference script, read back to the same bits.
-fn exact(v: &serde_json::Value) -> f64 {
-    v.as_str().unwrap().parse().unwrap()
 }
 
 #[test]
@@ -46,17 +41,7 @@ fn every_channel_reads_as_scipy_reads_it() {
 }
 
 fn edited(name: &str, edit: impl Fn(&mut Vec<u8>)) -> PathBuf {
-    let mut b = std::fs::read(wav("wave_pcm16_2ch.wav")).unwrap();
-    edit(&mut b);
-    let p = crate::common::temp_dir(&format!("wav-{name}")).join(format!("{name}.wav"));
-    std::fs::write(&p, b).unwrap();
-    p
-}
-
-fn psd_error(p: &Path) -> String {
-    let (code, _, err) = run_text(&["psd", p.to_str().unwrap()], None);
-    assert_eq!(code, 2, "{err}");
-    err
+    crate::common::edited_copy(&wav("wave_pcm16_2ch.wav"), name, edit)
 }
 
 #[test]

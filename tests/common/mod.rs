@@ -43,6 +43,30 @@ pub fn temp_dir(name: &str) -> PathBuf {
 }
 
 /// A repository file, whatever the working directory.
+/// A copy of the repository file `from`, edited, in a fresh temporary folder as `NAME.EXT`
+/// (the binary format readers' refusal tests).
+pub fn edited_copy(from: &Path, name: &str, edit: impl Fn(&mut Vec<u8>)) -> PathBuf {
+    let mut b = std::fs::read(from).unwrap();
+    edit(&mut b);
+    let ext = from.extension().and_then(|e| e.to_str()).unwrap_or("bin");
+    let p = temp_dir(&format!("{ext}-{name}")).join(format!("{name}.{ext}"));
+    std::fs::write(&p, b).unwrap();
+    p
+}
+
+/// The error of `satqual psd FILE`, which must exit with 2 (bad input).
+pub fn psd_error(p: &Path) -> String {
+    let (code, _, err) = run_text(&["psd", p.to_str().unwrap()], None);
+    assert_eq!(code, 2, "{err}");
+    err
+}
+
+/// A reference value stored as text by a reference script (Python's repr), read back to the
+/// same bits: serde_json's default float parser may be off by one unit in the last place.
+pub fn exact(v: &serde_json::Value) -> f64 {
+    v.as_str().unwrap().parse().unwrap()
+}
+
 pub fn repo_path(relative: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
 }
