@@ -118,6 +118,26 @@ fn rate_source(rate: &Rate) -> String {
     }
 }
 
+/// Sample intervals written by one clock (a `Delta_X`, a `wf_increment`) agree to the last
+/// bits.
+pub fn same_interval(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+}
+
+/// The interval most of `intervals` share, the first one's on a tie, with the index of the
+/// first interval holding it.
+pub fn most_common_interval(intervals: &[f64]) -> Option<(f64, usize)> {
+    let mut counts: Vec<(f64, usize, usize)> = Vec::new();
+    for (i, &dt) in intervals.iter().enumerate() {
+        match counts.iter_mut().find(|c| same_interval(c.0, dt)) {
+            Some(c) => c.1 += 1,
+            None => counts.push((dt, 1, i)),
+        }
+    }
+    let most = counts.iter().map(|c| c.1).max()?;
+    counts.iter().find(|c| c.1 == most).map(|c| (c.0, c.2))
+}
+
 /// Keeps the series of the time vector's length (`times`: its length and name), else of the
 /// most common length (the longer on a tie), and lists the others as unreadable.
 pub fn keep_common_length(

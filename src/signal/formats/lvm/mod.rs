@@ -9,7 +9,7 @@
 
 mod segments;
 
-use super::table::{Rate, Series, Table};
+use super::table::{Rate, Series, Table, most_common_interval, same_interval};
 use crate::error::SignalError;
 use crate::signal::ingest::sniff::number;
 use std::path::Path;
@@ -312,22 +312,12 @@ struct Found {
 /// channel's on a tie). LabVIEW writes channels of several rates into one segment, each slower
 /// one with empty cells between its samples.
 fn log_interval(found: &[Found]) -> Option<f64> {
-    let full = found
+    let full: Vec<f64> = found
         .iter()
-        .filter(|f| f.values.iter().all(Option::is_some));
-    let mut counts: Vec<(f64, usize)> = Vec::new();
-    for dt in full.filter_map(|f| f.dt) {
-        match counts.iter_mut().find(|(d, _)| same_interval(*d, dt)) {
-            Some(c) => c.1 += 1,
-            None => counts.push((dt, 1)),
-        }
-    }
-    let most = counts.iter().map(|c| c.1).max()?;
-    counts.iter().find(|c| c.1 == most).map(|c| c.0)
-}
-
-fn same_interval(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+        .filter(|f| f.values.iter().all(Option::is_some))
+        .filter_map(|f| f.dt)
+        .collect();
+    most_common_interval(&full).map(|(dt, _)| dt)
 }
 
 /// A channel's values when it is sampled on every row at the log's interval; otherwise why

@@ -28,7 +28,7 @@ mod scaling;
 mod segments;
 mod values;
 
-use super::table::{Rate, Series, Table, keep_common_length};
+use super::table::{Rate, Series, Table, keep_common_length, most_common_interval, same_interval};
 use crate::error::SignalError;
 use crate::signal::ingest::time_column_unit;
 use segments::{Data, Object};
@@ -277,24 +277,19 @@ fn rate(f: &mut Found, wanted: Option<&[String]>) -> Rate {
     if let Some((t, name)) = &f.times {
         return Rate::Times(t.clone(), name.clone());
     }
-    let mut counts: Vec<(f64, usize, &str)> = Vec::new();
     let is_wanted = |name: &str| wanted.is_none_or(|w| w.iter().any(|n| n == name));
-    for (name, dt) in f.increments.iter().filter(|(n, _)| is_wanted(n)) {
-        match counts.iter_mut().find(|c| same_increment(c.0, *dt)) {
-            Some(c) => c.1 += 1,
-            None => counts.push((*dt, 1, name)),
-        }
-    }
-    // On a tie, the first channel's increment (counts are in file order).
-    let best = counts.iter().rev().max_by_key(|c| c.1);
-    let Some(&(dt, _, first)) = best else {
+    let considered: Vec<&(String, f64)> =
+        f.increments.iter().filter(|(n, _)| is_wanted(n)).collect();
+    let dts: Vec<f64> = considered.iter().map(|(_, d)| *d).collect();
+    let Some((dt, i)) = most_common_interval(&dts) else {
         return Rate::Unknown;
     };
+    let first = &considered[i].0;
     let from = format!("the wf_increment property of `{first}`");
     let other: Vec<(String, f64)> = f
         .increments
         .iter()
-        .filter(|(_, d)| !same_increment(*d, dt))
+        .filter(|(_, d)| !same_interval(*d, dt))
         .cloned()
         .collect();
     for (name, d) in other {
@@ -305,11 +300,6 @@ fn rate(f: &mut Found, wanted: Option<&[String]>) -> Rate {
         ));
     }
     Rate::Stated(1.0 / dt, from)
-}
-
-/// Increments written by one clock agree to the last bits.
-fn same_increment(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
 }
 
 #[cfg(test)]
