@@ -7,7 +7,7 @@
 use super::bands::rms_of;
 use super::formats::{LogFormat, detect, read_log};
 use super::ingest::Log;
-use super::ingest::{IngestOptions, LogInfo, stream_csv};
+use super::ingest::{IngestOptions, LogInfo, Unit, stream_csv};
 use super::psd_table::{TableChannel, read_psd_table};
 use super::uff::{ordinate_unit, read_uff58};
 use super::welch::{Psd, WelchOptions, WelchStream, welch};
@@ -165,18 +165,23 @@ pub fn psd_of_file(
     })
 }
 
+/// A channel whose PSD was read from the file (no time history: no RMS, no samples).
+fn read_spectrum(name: String, unit: Unit, psd: Psd) -> ChannelPsd {
+    ChannelPsd {
+        name,
+        unit: unit.reported().into(),
+        grms: rms_of(&psd.frequencies(), &psd.values),
+        psd,
+        rms: None,
+        samples: 0,
+    }
+}
+
 /// The PSDs of a table, as they are.
 fn psd_of_table(path: &Path, table: Vec<TableChannel>) -> Result<LogPsd, SignalError> {
     let channels: Vec<ChannelPsd> = table
         .into_iter()
-        .map(|TableChannel { name, unit, psd }| ChannelPsd {
-            name,
-            unit: unit.reported().into(),
-            grms: rms_of(&psd.frequencies(), &psd.values),
-            psd,
-            rms: None,
-            samples: 0,
-        })
+        .map(|TableChannel { name, unit, psd }| read_spectrum(name, unit, psd))
         .collect();
     let channels = finite_channels(path, channels)?;
     Ok(LogPsd {
@@ -314,15 +319,7 @@ fn psd_of_uff(
                 }
                 let mut values = vec![0.0; offset as usize];
                 values.extend(r.re.iter().map(|v| v * k * k));
-                let psd = Psd::from_lines(step, values);
-                Ok(ChannelPsd {
-                    name: name.clone(),
-                    unit: unit.reported().into(),
-                    grms: rms_of(&psd.frequencies(), &psd.values),
-                    psd,
-                    rms: None,
-                    samples: 0,
-                })
+                Ok(read_spectrum(name.clone(), unit, Psd::from_lines(step, values)))
             } else {
                 let x: Vec<f64> = r.re.iter().map(|v| v * k).collect();
                 let psd = welch(&x, 1.0 / step, opts).map_err(|e| match e {

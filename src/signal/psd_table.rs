@@ -19,8 +19,8 @@ pub struct TableChannel {
     pub psd: Psd,
 }
 
-/// One PSD column of a table: its name, the column and the factor to g²/Hz (1 for a unit
-/// kept as it is).
+/// One PSD column of a table: its name, its index and the unit of its amplitude.
+#[derive(Clone)]
 struct Column {
     name: String,
     index: usize,
@@ -145,11 +145,7 @@ fn columns(path: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Vec<Column>
                             .join(", "),
                     }
                 })?;
-                Ok(Column {
-                    name: out[i].name.clone(),
-                    index: out[i].index,
-                    unit: out[i].unit,
-                })
+                Ok(out[i].clone())
             })
             .collect(),
     }
