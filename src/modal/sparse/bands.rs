@@ -9,7 +9,7 @@
 
 use super::csc::SymCsc;
 use super::eigen::SparseStats;
-use super::factor::{Pencil, factor_away_from_eigenvalue, factor_in_gap};
+use super::factor::{Pencil, factor_away_from_eigenvalue, point_in_gap};
 use super::slice::{SLICE_MODES, run_slice};
 use super::{Pair, SparseError};
 use crate::error::ModalError;
@@ -51,8 +51,8 @@ pub(super) fn band_edges(
                 let c = fac.negative;
                 if c.abs_diff(goal) <= slack {
                     // A cut is a partition point: moved into a gap of the spectrum.
-                    let cut = factor_in_gap(pencil, fac.sigma, &mut st)?;
-                    return Ok((Some((cut.sigma, cut.negative)), st.factorizations));
+                    let cut = point_in_gap(pencil, fac.sigma, &mut st)?;
+                    return Ok((Some(cut), st.factorizations));
                 }
                 if c < goal {
                     lo = mid;

@@ -4,7 +4,7 @@
 
 use super::bands::{BAND_MODES, band_edges, run_band};
 use super::csc::SymCsc;
-use super::factor::{Pencil, factor_away_from_eigenvalue, factor_in_gap};
+use super::factor::{Pencil, factor_away_from_eigenvalue, point_in_gap};
 use super::{Pair, SparseError};
 use crate::error::ModalError;
 use faer::{Mat, Par};
@@ -111,9 +111,9 @@ pub fn eigen_by_band<T: Send>(
     let mut top: Option<Edge> = None;
     if let Some(f) = fmax_hz {
         let lmax = (two_pi * f).powi(2);
-        let fac = factor_in_gap(&pencil, lmax, &mut stats)?;
-        stats.fmax_count = Some(fac.negative);
-        top = Some((fac.sigma, fac.negative));
+        let (sigma, count) = point_in_gap(&pencil, lmax, &mut stats)?;
+        stats.fmax_count = Some(count);
+        top = Some((sigma, count));
     }
     let target = match (top, want_modes) {
         (Some(t), Some(w)) => t.1.min(w),

@@ -350,30 +350,61 @@ pub const EDGE_GAP: f64 = 1e-8;
 /// Steps of 2·[`EDGE_GAP`] tried before a partition point is used where it is.
 const GAP_STEPS: usize = 64;
 
-/// Factors K − σM at a partition point of the spectrum (the band's top, a band cut, a slice's
-/// shift or edge): a point whose count says on which side of it an eigenvalue lies. If an
-/// eigenvalue sat within a Ritz value's error of it (a copy of a repeated mode counted below
-/// the point but computed just above it), the slice would never complete. So σ moves up by
-/// 2·EDGE_GAP·|σ| at a time until the counts at σ·(1 ∓ EDGE_GAP) agree: no eigenvalue is
-/// then within EDGE_GAP of σ, and a cluster of repeated modes that straddled it lies wholly
-/// below. Where the spectrum has no such gap within GAP_STEPS steps, σ itself is used (the
-/// count is still exact; the slices' own checks then decide).
-pub(super) fn factor_in_gap<'a>(
-    pencil: &'a Pencil,
+/// A partition point of the spectrum (the band's top, a band cut, a slice's shift or edge):
+/// a point whose count says on which side of it an eigenvalue lies, returned as (σ, count).
+/// If an eigenvalue sat within a Ritz value's error of it (a copy of a repeated mode counted
+/// below the point but computed just above it), the slice would never complete. So σ moves
+/// up by 2·EDGE_GAP·|σ| at a time until the counts at σ·(1 ∓ EDGE_GAP) agree: no eigenvalue
+/// is then within EDGE_GAP of σ, a cluster of repeated modes that straddled it lies wholly
+/// below, and the count at σ is theirs (Sylvester), so K − σM itself need not be factored.
+/// Where the spectrum has no such gap within GAP_STEPS steps, σ itself is factored and used
+/// (the count is still exact; the slices' own checks then decide).
+pub(super) fn point_in_gap(
+    pencil: &Pencil,
     sigma: f64,
     stats: &mut SparseStats,
+) -> Result<(f64, usize), SparseError> {
+    match gap_at_or_above(pencil, sigma, stats)? {
+        Some(point) => Ok(point),
+        None => {
+            let fac = factor_away_from_eigenvalue(pencil, sigma, stats)?;
+            Ok((fac.sigma, fac.negative))
+        }
+    }
+}
+
+/// [`point_in_gap`] for a point whose factor is needed (a Lanczos shift), starting from the
+/// factor already made at `fac.sigma`: it is kept when that point is already in a gap.
+pub(super) fn factor_in_gap<'a>(
+    pencil: &'a Pencil,
+    fac: Factor<'a>,
+    stats: &mut SparseStats,
 ) -> Result<Factor<'a>, SparseError> {
+    match gap_at_or_above(pencil, fac.sigma, stats)? {
+        Some((s, _)) if s == fac.sigma => Ok(fac),
+        Some((s, _)) => factor_away_from_eigenvalue(pencil, s, stats),
+        None => Ok(fac),
+    }
+}
+
+/// The first σ' = σ + 2j·EDGE_GAP·|σ'| (j < GAP_STEPS) with no eigenvalue within
+/// EDGE_GAP·|σ'|, and its count; None when the spectrum has no such gap there.
+fn gap_at_or_above(
+    pencil: &Pencil,
+    sigma: f64,
+    stats: &mut SparseStats,
+) -> Result<Option<(f64, usize)>, SparseError> {
     let mut s = sigma;
     for _ in 0..GAP_STEPS {
         let w = EDGE_GAP * s.abs().max(f64::MIN_POSITIVE);
         let below = factor_away_from_eigenvalue(pencil, s - w, stats)?.negative;
         let above = factor_away_from_eigenvalue(pencil, s + w, stats)?.negative;
         if below == above {
-            return factor_away_from_eigenvalue(pencil, s, stats);
+            return Ok(Some((s, below)));
         }
         s += 2.0 * w;
     }
-    factor_away_from_eigenvalue(pencil, sigma, stats)
+    Ok(None)
 }
 
 #[cfg(test)]
@@ -464,5 +495,28 @@ mod tests {
         assert!(fac.sigma > 2.0 && fac.sigma < 2.0 + 1e-8);
         assert_eq!(fac.negative, 2);
         assert!(stats.factorizations >= 2);
+    }
+    /// A partition point within EDGE_GAP of an eigenvalue (2 of diag(1, 2, 2 + 1e-9, 3), a
+    /// pair closer than EDGE_GAP) moves above both, and its count (three below) is the
+    /// count of a factorization made there (Sylvester); a point already in a gap stays, and
+    /// a shift's factor is kept as it is.
+    #[test]
+    fn a_partition_point_moves_into_a_gap_and_keeps_its_count() {
+        let (kc, m) = (diagonal(&[1.0, 2.0, 2.0 + 1e-9, 3.0]), identity(4));
+        let pencil = Pencil::new(&kc, Some(&m)).unwrap();
+        let mut stats = SparseStats::default();
+        let (sigma, count) = point_in_gap(&pencil, 2.0, &mut stats).unwrap();
+        assert!(sigma > (2.0 + 1e-9) * (1.0 + EDGE_GAP), "{sigma}");
+        assert!(
+            sigma < 2.0 + 2.0 * GAP_STEPS as f64 * EDGE_GAP * 2.1,
+            "{sigma}"
+        );
+        assert_eq!(count, 3);
+        assert_eq!(pencil.factor(sigma).unwrap().negative, count);
+        assert_eq!(point_in_gap(&pencil, 2.5, &mut stats).unwrap(), (2.5, 3));
+        let before = stats.factorizations;
+        let kept = factor_in_gap(&pencil, pencil.factor(2.5).unwrap(), &mut stats).unwrap();
+        assert_eq!((kept.sigma, kept.negative), (2.5, 3));
+        assert_eq!(stats.factorizations - before, 2, "the two sides only");
     }
 }

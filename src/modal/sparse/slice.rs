@@ -28,7 +28,7 @@
 use super::cluster::cluster_pairs;
 use super::csc::SymCsc;
 use super::eigen::SparseStats;
-use super::factor::{Factor, Pencil, factor_away_from_eigenvalue, factor_in_gap};
+use super::factor::{Factor, Pencil, factor_away_from_eigenvalue, factor_in_gap, point_in_gap};
 use super::lanczos::{BLOCK, Lanczos, MAX_BASIS};
 use super::{Pair, RESIDUAL_TOL, SparseError};
 use crate::error::ModalError;
@@ -171,10 +171,10 @@ pub(super) fn run_slice(
                         Some(t) if b >= t.0 => t,
                         _ if b == s => (s, c_s),
                         _ => {
-                            let fac_b = factor_in_gap(pencil, b, stats)?;
+                            let at_b = point_in_gap(pencil, b, stats)?;
                             match top {
-                                Some(t) if fac_b.sigma >= t.0 => t,
-                                _ => (fac_b.sigma, fac_b.negative),
+                                Some(t) if at_b.0 >= t.0 => t,
+                                _ => at_b,
                             }
                         }
                     });
@@ -296,7 +296,7 @@ fn slice_shift<'a>(
     // The shift partitions the slice too ([a, s) must be found whole): into a gap, but never
     // past the band's top, which is in one already.
     if fac_s.sigma > a {
-        let moved = factor_in_gap(pencil, fac_s.sigma, stats)?;
+        let moved = factor_in_gap(pencil, fac_s, stats)?;
         fac_s = match top {
             Some((ts, _)) if moved.sigma >= ts => factor_away_from_eigenvalue(pencil, ts, stats)?,
             _ => moved,
