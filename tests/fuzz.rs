@@ -26,7 +26,6 @@ use std::time::{Duration, Instant};
 const HANG_LIMIT: Duration = Duration::from_secs(300);
 /// The contract's per-case budget (docs/robustness.md).
 const CASE_BUDGET: Duration = Duration::from_secs(20);
-/// Seconds of mutation fuzzing in the normal test run.
 /// Cases of the normal test run: a fixed count, so the run checks the same mutants on any
 /// machine at any load (a time budget made the cases covered depend on the machine's speed).
 /// About 40–60 s on 2 cores.
