@@ -1053,6 +1053,9 @@ fn rigid_body_masses(
     (md, rb, rb_total)
 }
 
+/// Relative difference below which two components of a shape are a tie for its sign.
+const SIGN_TIE: f64 = 1e-6;
+
 /// Mode `idx` (0-based) of eigenvalue `lambda`: its sign fixed, frequency, participation
 /// factors and effective masses.
 fn mode(
@@ -1063,10 +1066,13 @@ fn mode(
     rb_total: &[f64; 6],
 ) -> Mode {
     let two_pi = 2.0 * std::f64::consts::PI;
-    // Sign convention: the largest-magnitude component (first one on ties) is positive.
+    // Sign convention: the largest-magnitude component (first one on ties) is positive. A
+    // tie is within SIGN_TIE, far above the solvers' vector accuracy (VECTOR_TOL, 1e-9), so
+    // that round-off cannot flip the sign of a symmetric mode whose two largest components
+    // mirror each other.
     let mut imax = 0;
     for (i, v) in shape.iter().enumerate() {
-        if v.abs() > shape[imax].abs() * (1.0 + 1e-12) {
+        if v.abs() > shape[imax].abs() * (1.0 + SIGN_TIE) {
             imax = i;
         }
     }
@@ -1204,4 +1210,29 @@ fn participation_basis(gamma: &[[f64; 6]]) -> Vec<Vec<f64>> {
         }
     }
     q
+}
+
+#[cfg(test)]
+mod sign_tests {
+    use super::mode;
+
+    /// A symmetric mode's two largest components mirror each other; the solver's round-off
+    /// (VECTOR_TOL, 1e-9 relative) must not decide its sign. Within SIGN_TIE they tie and the
+    /// first one is made positive, whichever of the two came out larger; a component larger
+    /// by 1e-3 wins.
+    #[test]
+    fn round_off_does_not_flip_the_sign_of_a_mirrored_mode() {
+        let md = vec![[0.0; 6]; 3];
+        let rb = [1.0; 6];
+        for tiny in [-1e-9, 0.0, 1e-9] {
+            let m = mode(0, 1.0, vec![-0.5, 0.5 * (1.0 + tiny), 0.1], &md, &rb);
+            assert!(
+                m.shape[0] > 0.0 && m.shape[1] < 0.0,
+                "{tiny}: {:?}",
+                m.shape
+            );
+        }
+        let m = mode(0, 1.0, vec![-0.5, 0.5 * (1.0 + 1e-3), 0.1], &md, &rb);
+        assert!(m.shape[1] > 0.0 && m.shape[0] < 0.0, "{:?}", m.shape);
+    }
 }
