@@ -463,3 +463,34 @@ fn a_rate_stated_in_the_preamble_is_the_logs_rate() {
     };
     assert_eq!(read_csv(&p, &opts).unwrap().info.fs_hz, 2000.0);
 }
+
+/// A unit stated once above the header (`# Units: m/s^2`) is the unit of every channel whose
+/// header states none, with a note naming its line; a channel naming its own unit keeps it.
+/// Reference: the same written values in both columns, so the m/s² channel reads 1/9.80665
+/// of the g channel in g (standard gravity, exact); 1e-12 relative allows for round-off.
+#[test]
+fn a_unit_stated_in_the_preamble_is_the_unit_of_unlabelled_channels() {
+    let mut text = String::from("# Units: m/s^2\ntime,a1,a2 [g]\n");
+    for i in 0..N {
+        let v = format!("{:.9}", sample(i));
+        text.push_str(&format!("{:.9},{v},{v}\n", i as f64 / FS));
+    }
+    let p = write("preamble-unit.csv", &text);
+    let log = read_csv(&p, &IngestOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let units: Vec<Unit> = log.info.channels.iter().map(|c| c.unit).collect();
+    assert_eq!(units, [Unit::MPerS2, Unit::G]);
+    let (a1, a2) = (
+        rms(log.channel("a1").unwrap()),
+        rms(log.channel("a2 [g]").unwrap()),
+    );
+    assert!((a1 * 9.80665 / a2 - 1.0).abs() < 1e-12, "{a1} {a2}");
+    assert!(
+        log.info
+            .ingest
+            .notes
+            .iter()
+            .any(|n| n.contains("unit m/s2 read from line 1")),
+        "{:?}",
+        log.info.ingest.notes
+    );
+}

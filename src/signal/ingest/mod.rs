@@ -19,6 +19,7 @@ pub mod freq_table;
 pub mod iso8601;
 mod plausible_rate;
 mod preamble_rate;
+mod preamble_unit;
 pub mod sniff;
 mod time_unit;
 mod timing;
@@ -449,6 +450,7 @@ fn plain_dialect(path: &Path, head: &[u8]) -> Result<Dialect, SignalError> {
         metadata_columns: Vec::new(),
         first_row: Vec::new(),
         preamble_rate: None,
+        preamble_unit: None,
     })
 }
 
@@ -666,6 +668,12 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
             Some(_) => {}
         }
     }
+    if let Some((u, line)) = d.preamble_unit {
+        notes.push(format!(
+            "unit {} read from line {line}, for the channels whose header states none",
+            u.label()
+        ));
+    }
     let rate_stated = fs_from_metadata.is_some() || is_rate_column_present(&header, &ignored);
     let selected = select_columns(file, &header, time_col, &ignored, rate_stated, opts)?;
     let channels = channel_infos(&header, &selected, d, opts);
@@ -839,7 +847,10 @@ fn channel_infos(
             let (unit, unit_source) =
                 if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
                     (*u, UnitSource::Option)
-                } else if let Some(u) = Unit::from_name(&name).or(row_unit) {
+                } else if let Some(u) = Unit::from_name(&name)
+                    .or(row_unit)
+                    .or(d.preamble_unit.map(|p| p.0))
+                {
                     (u, UnitSource::Name)
                 } else if let Some(u) = opts.default_unit {
                     (u, UnitSource::Option)

@@ -28,13 +28,9 @@ const INTERVAL_KEYS: [&str; 7] = [
 /// The rate a preamble line states, in Hz, if it is one of the keys above with a positive
 /// number and a known unit.
 pub fn rate_of_line(line: &str, decimal_comma: bool) -> Option<f64> {
-    let t = line
-        .trim()
-        .trim_start_matches(['#', '%', '/', ';', '"'])
-        .trim();
-    let cut = t.find([':', '=', '\t', ';', ','])?;
-    let (key, value) = (&t[..cut], t[cut + 1..].trim().trim_matches('"'));
-    let (key, key_unit) = split_unit(&key.to_lowercase().replace(['_', '-'], " "));
+    let (key, value) = key_value(line)?;
+    let value = value.trim_matches('"');
+    let (key, key_unit) = split_unit(&key);
     let key = key.split_whitespace().collect::<Vec<_>>().join(" ");
     let (number, value_unit) = split_number(value, decimal_comma)?;
     let unit = value_unit.or(key_unit).unwrap_or_default();
@@ -46,6 +42,21 @@ pub fn rate_of_line(line: &str, decimal_comma: bool) -> Option<f64> {
         None
     }
     .filter(|hz| hz.is_finite() && *hz > 0.0)
+}
+
+/// A preamble line as `key: value` (or `=`, tab, `;`, `,`): the key lower-cased, quotes
+/// trimmed, `_` and `-` read as spaces; the value trimmed. Comment marks before it are skipped.
+pub(super) fn key_value(line: &str) -> Option<(String, &str)> {
+    let t = line
+        .trim()
+        .trim_start_matches(['#', '%', '/', ';', '"'])
+        .trim();
+    let cut = t.find([':', '=', '\t', ';', ','])?;
+    let key = t[..cut]
+        .trim_matches('"')
+        .to_lowercase()
+        .replace(['_', '-'], " ");
+    Some((key, t[cut + 1..].trim()))
 }
 
 /// `sampling frequency [hz]` → (`sampling frequency`, Some(`hz`)).

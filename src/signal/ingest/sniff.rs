@@ -66,6 +66,8 @@ pub struct Dialect {
     pub first_row: Vec<String>,
     /// A sampling rate stated above the header (`Sample rate: 2048 Hz`): Hz and its line.
     pub preamble_rate: Option<(f64, u64)>,
+    /// A unit stated above the header for every channel (`# Units: g`), and its line.
+    pub preamble_unit: Option<(super::unit::Unit, u64)>,
 }
 
 fn is_comment(line: &str) -> bool {
@@ -229,6 +231,8 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
     let preamble_rate = (0..preamble_end).find_map(|i| {
         super::preamble_rate::rate_of_line(lines[i].1, dec).map(|hz| (hz, i as u64 + 1))
     });
+    let preamble_unit = (0..preamble_end)
+        .find_map(|i| super::preamble_unit::unit_of_line(lines[i].1).map(|u| (u, i as u64 + 1)));
     Some(Dialect {
         delimiter,
         decimal_comma: dec,
@@ -243,6 +247,7 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
         width,
         first_row: rows.first().cloned().unwrap_or_default(),
         preamble_rate,
+        preamble_unit,
     })
 }
 
