@@ -13,6 +13,11 @@ use faer::{Accum, Mat, MatRef, Par};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+/// Relative distance of the subspace iteration's shift below the cluster: its smallest pivot
+/// is then about 1e-7 relative, six decades above where a factorization is nudged off an
+/// eigenvalue, and neighbours a few 1e-4 away fall behind by 1e-3 or more per application.
+const SHIFT_BELOW: f64 = 1e-7;
+
 /// The missing copies of a tight cluster of (numerically) repeated eigenvalues near `l`, by
 /// subspace iteration with a block exactly as wide as the number missing.
 ///
@@ -26,11 +31,6 @@ use rand_chacha::ChaCha8Rng;
 /// eigenspace.
 /// Pairs are accepted with the Lanczos criteria ([`RESIDUAL_TOL`], [`VECTOR_TOL`]); whatever
 /// does not converge is left to the restarted Lanczos.
-/// Relative distance of the subspace iteration's shift below the cluster: its smallest pivot
-/// is then about 1e-7 relative, six decades above where a factorization is nudged off an
-/// eigenvalue, and neighbours a few 1e-4 away fall behind by 1e-3 or more per application.
-const SHIFT_BELOW: f64 = 1e-7;
-
 #[allow(clippy::too_many_arguments)]
 pub(super) fn cluster_pairs(
     m: &SymCsc,

@@ -496,6 +496,7 @@ mod tests {
         assert_eq!(fac.negative, 2);
         assert!(stats.factorizations >= 2);
     }
+
     /// A partition point within EDGE_GAP of an eigenvalue (2 of diag(1, 2, 2 + 1e-9, 3), a
     /// pair closer than EDGE_GAP) moves above both, and its count (three below) is the
     /// count of a factorization made there (Sylvester); a point already in a gap stays, and
