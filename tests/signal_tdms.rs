@@ -3,7 +3,7 @@
 //! description for what TdmsWriter never writes: big-endian, interleaved, reused metadata, an
 //! unfinished last segment). Files and references: data/format-refs/tdms/make_tdms.py.
 
-use crate::common::{exact, psd_error, repo_path, run_text};
+use crate::common::{exact, mutate_bytes, psd_error, repo_path, run_text};
 use satqual::signal::formats::tdms::read_tdms;
 use satqual::signal::ingest::{IngestOptions, Log, Unit};
 use satqual::signal::read_log;
@@ -198,16 +198,7 @@ fn mutate_every_byte(original: &[u8]) {
             assert!(e.to_string().contains("TDMS: "), "{e}");
         }
     };
-    for i in 0..original.len() {
-        for v in [0u8, 0xFF, original[i].wrapping_add(1)] {
-            let mut b = original.to_vec();
-            b[i] = v;
-            run(&b);
-        }
-    }
-    for n in (0..original.len()).step_by(13) {
-        run(&original[..n]);
-    }
+    mutate_bytes(original, original.len(), (0, 13), &mut run);
     assert!(read > 0 && refused > 0, "read {read}, refused {refused}");
 }
 

@@ -2,7 +2,7 @@
 //! two writers (Python's `wave` module for PCM of 8, 16, 24 and 32 bits; scipy for floats).
 //! Files and references: data/format-refs/wav/make_wav.py.
 
-use crate::common::{exact, psd_error, repo_path};
+use crate::common::{exact, mutate_bytes, psd_error, repo_path};
 use satqual::signal::formats::wav::read_wav;
 use satqual::signal::ingest::IngestOptions;
 use satqual::signal::read_log;
@@ -74,16 +74,7 @@ fn mutated_files_give_a_log_or_an_error_never_a_panic() {
             assert!(e.to_string().contains("WAV: "), "{e}");
         }
     };
-    // The header and the first frames: every byte set to 0x00, 0xFF and its value + 1.
-    for i in 0..200 {
-        for v in [0u8, 0xFF, original[i].wrapping_add(1)] {
-            let mut b = original.clone();
-            b[i] = v;
-            run(&b);
-        }
-    }
-    for n in (12..original.len()).step_by(97) {
-        run(&original[..n]);
-    }
+    // The header and the first frames mutated, the file cut at every 97th length.
+    mutate_bytes(&original, 200, (12, 97), &mut run);
     assert!(read > 0 && refused > 0, "read {read}, refused {refused}");
 }

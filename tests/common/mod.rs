@@ -42,7 +42,6 @@ pub fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
-/// A repository file, whatever the working directory.
 /// A copy of the repository file `from`, edited, in a fresh temporary folder as `NAME.EXT`
 /// (the binary format readers' refusal tests).
 pub fn edited_copy(from: &Path, name: &str, edit: impl Fn(&mut Vec<u8>)) -> PathBuf {
@@ -61,12 +60,34 @@ pub fn psd_error(p: &Path) -> String {
     err
 }
 
+/// Every byte of `original[..bytes]` set in turn to 0x00, 0xFF and its value + 1, then the
+/// file cut at every `cut_step`-th length from `cut_from`: each mutant is handed to `read`
+/// (the binary format readers' no-panic tests).
+pub fn mutate_bytes(
+    original: &[u8],
+    bytes: usize,
+    (cut_from, cut_step): (usize, usize),
+    mut read: impl FnMut(&[u8]),
+) {
+    for i in 0..bytes.min(original.len()) {
+        for v in [0u8, 0xFF, original[i].wrapping_add(1)] {
+            let mut b = original.to_vec();
+            b[i] = v;
+            read(&b);
+        }
+    }
+    for n in (cut_from..original.len()).step_by(cut_step) {
+        read(&original[..n]);
+    }
+}
+
 /// A reference value stored as text by a reference script (Python's repr), read back to the
 /// same bits: serde_json's default float parser may be off by one unit in the last place.
 pub fn exact(v: &serde_json::Value) -> f64 {
     v.as_str().unwrap().parse().unwrap()
 }
 
+/// A repository file, whatever the working directory.
 pub fn repo_path(relative: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
 }
