@@ -494,3 +494,78 @@ fn a_unit_stated_in_the_preamble_is_the_unit_of_unlabelled_channels() {
         log.info.ingest.notes
     );
 }
+
+/// Excel's "Unicode text" (UTF-16LE with a byte-order mark, tab, CRLF), the same in UTF-16BE
+/// and without the mark, a Windows-1252 export whose unit `m/s²` is the byte 0xB2 (semicolon,
+/// decimal comma), and a file whose lines end with CR alone: each reads as the UTF-8 original
+/// (the analytic rate and RMS of `check`), with the channel's unit taken from the decoded header and
+/// a note naming the encoding.
+#[test]
+fn utf16_windows_1252_and_cr_only_logs_read_as_their_utf8_original() {
+    let tab = format!(
+        "Time [s]\tAccel [m/s²]\r\n{}",
+        rows("\t", 1.0, 0.0, false).replace('\n', "\r\n")
+    );
+    let semi = format!("Time [s];Accel [m/s²]\n{}", rows(";", 1.0, 0.0, true));
+    let utf16 = |be: bool, bom: bool| -> Vec<u8> {
+        let mark: &[u16] = if bom { &[0xFEFF] } else { &[] };
+        mark.iter()
+            .copied()
+            .chain(tab.encode_utf16())
+            .flat_map(|u| if be { u.to_be_bytes() } else { u.to_le_bytes() })
+            .collect()
+    };
+    let cp1252: Vec<u8> = semi
+        .chars()
+        .map(|c| if c == '²' { 0xB2 } else { c as u8 })
+        .collect();
+    let cases: [(&str, Vec<u8>, &str); 5] = [
+        (
+            "utf16le.txt",
+            utf16(false, true),
+            "UTF-16LE (byte-order mark)",
+        ),
+        (
+            "utf16be.txt",
+            utf16(true, true),
+            "UTF-16BE (byte-order mark)",
+        ),
+        (
+            "utf16le-nobom.txt",
+            utf16(false, false),
+            "UTF-16LE (no byte-order mark",
+        ),
+        ("ansi.csv", cp1252, "Windows-1252"),
+        (
+            "cr.txt",
+            tab.replace("\r\n", "\r").into_bytes(),
+            "carriage return alone",
+        ),
+    ];
+    for (name, bytes, note) in cases {
+        let dir = crate::common::temp_dir(&format!("dialect-{name}"));
+        let p = dir.join(name);
+        std::fs::write(&p, &bytes).unwrap();
+        // The channel is reported in g: m/s² over standard gravity (9.80665, ISO 80000-3).
+        let log = read_csv(&p, &IngestOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(log.info.channels[0].unit, Unit::MPerS2, "{name}");
+        assert!(
+            (log.info.fs_hz - FS).abs() < FS * 1e-9,
+            "{name}: fs {}",
+            log.info.fs_hz
+        );
+        let x = log.channel("Accel [m/s²]").unwrap();
+        assert_eq!(x.len(), N, "{name}");
+        let want = 2.0 / 2f64.sqrt();
+        assert!(
+            (rms(x) * 9.80665 - want).abs() < want * 1e-6,
+            "{name}: rms {}",
+            rms(x)
+        );
+        assert!(
+            log.info.ingest.notes.iter().any(|n| n.contains(note)),
+            "{name}: {:?}",
+            log.info.ingest.notes
+        );
+    }
+}

@@ -150,11 +150,12 @@ fn bad_files_get_clear_errors() {
         &[],
         &["binary", "byte 0x03 at offset 2"],
     );
+    // Not UTF-8 and no NUL byte: read as Windows-1252 text, whose cell is then no number.
     expect_error(
         &write("latin1.csv", b"time_s,a\n0,\xb0\xff\xfe\n"),
         &o,
         &[],
-        &["binary"],
+        &["line 2", "column `a`", "cannot parse number `°ÿþ`"],
     );
     let sel = IngestOptions {
         channels: Some(vec!["zz".into()]),

@@ -225,10 +225,12 @@ fn validate_profile(profile: &[(f64, f64)]) -> Result<(), SignalError> {
 /// Reads a profile: a TOML file with `profile_g2_hz = [[f_hz, g2_hz], ...]` (or `points`), or a
 /// two-column CSV with a header.
 pub fn read_profile(path: &Path) -> Result<Vec<(f64, f64)>, SignalError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SignalError::Unsupported {
-        file: path.to_path_buf(),
-        message: format!("cannot read: {e}"),
-    })?;
+    let bytes =
+        crate::signal::ingest::text::read_all(path).map_err(|e| SignalError::Unsupported {
+            file: path.to_path_buf(),
+            message: format!("cannot read: {e}"),
+        })?;
+    let text = String::from_utf8_lossy(&bytes);
     let bad = |line: usize, m: String| SignalError::BadCell {
         file: path.to_path_buf(),
         line: line as u64,

@@ -244,10 +244,11 @@ pub fn read_psd_table(
         ));
     }
     let cols = columns(path, &d, opts)?;
-    let bytes = std::fs::read(path).map_err(|e| SignalError::Unsupported {
-        file: path.to_path_buf(),
-        message: format!("cannot read: {e}"),
-    })?;
+    let bytes =
+        crate::signal::ingest::text::read_all(path).map_err(|e| SignalError::Unsupported {
+            file: path.to_path_buf(),
+            message: format!("cannot read: {e}"),
+        })?;
     let rows = data_rows(path, &bytes, &d, "PSD table")?;
     let (df, offset) = uniform_lines(path, &rows, printed_decimals(&bytes, &d))?;
     let lines = offset + rows.len();

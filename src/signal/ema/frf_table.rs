@@ -115,10 +115,11 @@ pub fn read_frf_table(path: &Path) -> Result<Option<FrfTable>, SignalError> {
     let Some((dialect, header)) = table_header(path) else {
         return Ok(None);
     };
-    let bytes = std::fs::read(path).map_err(|e| SignalError::Unsupported {
-        file: path.to_path_buf(),
-        message: format!("cannot read: {e}"),
-    })?;
+    let bytes =
+        crate::signal::ingest::text::read_all(path).map_err(|e| SignalError::Unsupported {
+            file: path.to_path_buf(),
+            message: format!("cannot read: {e}"),
+        })?;
     let pairs = pair_columns(path, &dialect, &header)?;
     let rows = data_rows(path, &bytes, &dialect, "FRF table")?;
     let freqs: Vec<f64> = rows.iter().map(|(_, r)| r[0]).collect();

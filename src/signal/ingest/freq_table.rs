@@ -19,7 +19,7 @@ pub fn sniff_head(path: &Path) -> Option<Dialect> {
     use std::io::Read;
     const HEAD: u64 = 64 * 1024;
     let mut head = Vec::new();
-    let file = std::fs::File::open(path).ok()?;
+    let (file, _) = super::text::open(path).ok()?;
     file.take(HEAD).read_to_end(&mut head).ok()?;
     let eof = (head.len() as u64) < HEAD;
     sniff_dialect(&head, eof)

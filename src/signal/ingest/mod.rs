@@ -21,6 +21,7 @@ mod plausible_rate;
 mod preamble_rate;
 mod preamble_unit;
 pub mod sniff;
+pub mod text;
 mod time_unit;
 mod timing;
 mod unit;
@@ -182,19 +183,15 @@ pub fn is_time_column(name: &str) -> bool {
     time_column_unit(name).is_some()
 }
 
-/// Reads the first bytes to refuse binary files before the CSV parser sees them.
-fn sniff(path: &Path) -> Result<(), SignalError> {
-    let mut f = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
-    let mut buf = vec![0u8; 8192];
-    let mut got = 0;
-    while got < buf.len() {
-        let n = f.read(&mut buf[got..]).map_err(|e| io_error(path, e))?;
-        if n == 0 {
-            break;
-        }
-        got += n;
-    }
-    buf.truncate(got);
+/// Reads the first bytes to refuse binary files before the CSV parser sees them, and tells
+/// the text encoding (the bytes checked are the decoded ones).
+fn sniff(path: &Path) -> Result<text::TextForm, SignalError> {
+    let (reader, form) = text::open(path).map_err(|e| io_error(path, e))?;
+    let mut buf = Vec::new();
+    reader
+        .take(8192)
+        .read_to_end(&mut buf)
+        .map_err(|e| io_error(path, e))?;
     if buf.iter().all(|b| b.is_ascii_whitespace()) {
         return Err(SignalError::EmptyFile {
             file: path.to_path_buf(),
@@ -221,7 +218,7 @@ fn sniff(path: &Path) -> Result<(), SignalError> {
             });
         }
     }
-    Ok(())
+    Ok(form)
 }
 
 fn io_error(path: &Path, e: std::io::Error) -> SignalError {
@@ -273,17 +270,18 @@ pub fn stream_csv(
     opts: &IngestOptions,
     mut sink: impl FnMut(&[f64]),
 ) -> Result<LogInfo, SignalError> {
-    sniff(path)?;
+    let form = sniff(path)?;
     let fpath = path.to_path_buf();
     let dialect = read_dialect(path)?;
     let plan = plan_columns(&fpath, &dialect, opts)?;
-    let mut file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
-    std::io::Seek::seek(
-        &mut file,
-        std::io::SeekFrom::Start(dialect.data_offset as u64),
+    let (text_reader, _) = text::open(path).map_err(|e| io_error(path, e))?;
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, text_reader);
+    // The data offset is in the decoded text, so the preamble is read through, not sought.
+    std::io::copy(
+        &mut (&mut reader).take(dialect.data_offset as u64),
+        &mut std::io::sink(),
     )
     .map_err(|e| io_error(path, e))?;
-    let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
     let header = plan.header.clone();
     let time_col = plan.time_col;
     let selected = plan.selected.clone();
@@ -354,6 +352,7 @@ pub fn stream_csv(
         },
     };
     let mut record = plan.record;
+    record.notes.splice(0..0, form.note(&fpath));
     record.notes.extend(timing_notes(&fpath, &outcome));
     record.jitter = outcome.jitter;
     Ok(LogInfo {
@@ -393,10 +392,9 @@ fn timing_notes(file: &Path, t: &TimingOutcome) -> Vec<String> {
 
 /// The dialect of a log: sniffed from its head, or plain CSV with the header on line 1.
 fn read_dialect(path: &Path) -> Result<Dialect, SignalError> {
-    let mut f = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+    let (f, _) = text::open(path).map_err(|e| io_error(path, e))?;
     let mut head = Vec::new();
-    (&mut f)
-        .take(sniff::HEAD_BYTES as u64)
+    f.take(sniff::HEAD_BYTES as u64)
         .read_to_end(&mut head)
         .map_err(|e| io_error(path, e))?;
     let eof = head.len() < sniff::HEAD_BYTES;

@@ -44,17 +44,10 @@ fn err(path: &Path, line: usize, message: impl Into<String>) -> SignalError {
     }
 }
 
-/// UTF-8, else Latin-1 (LabVIEW on Windows writes `°` as the byte 0xB0).
-fn decode(bytes: &[u8]) -> String {
-    match std::str::from_utf8(bytes) {
-        Ok(s) => s.to_string(),
-        Err(_) => bytes.iter().map(|&b| b as char).collect(),
-    }
-}
-
 /// Reads an LVM file into named columns.
 pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
-    let text = decode(bytes);
+    // UTF-8, else Windows-1252 (LabVIEW on Windows writes `°` as the byte 0xB0), or UTF-16.
+    let text = crate::signal::ingest::text::decode(bytes);
     let lines: Vec<&str> = text.lines().map(|l| l.trim_end_matches('\r')).collect();
     let file_end = find_end(&lines, 0).ok_or_else(|| {
         err(
