@@ -569,3 +569,50 @@ fn utf16_windows_1252_and_cr_only_logs_read_as_their_utf8_original() {
         );
     }
 }
+
+/// Time columns as locales and loggers write them: a German export (`28.11.2026
+/// 10:15:30,125`, semicolon, decimal comma), Excel's US form (`11/28/2026 10:15:30.125 AM`),
+/// a time of day alone and an elapsed clock (`0:00:00.125`), each one millisecond apart. The
+/// rate comes from the column (analytic 1000 Hz within 1e-9) and the sine is read whole.
+#[test]
+fn locale_date_times_and_clock_times_are_time_columns() {
+    // 10:15:30 + i ms, as hh:mm:ss.fff with the given decimal mark.
+    let clock = |i: usize, mark: &str| {
+        let ms = 36_930_000 + i;
+        let (h, m, s) = (ms / 3_600_000, ms / 60_000 % 60, ms / 1000 % 60);
+        format!("{h:02}:{m:02}:{s:02}{mark}{:03}", ms % 1000)
+    };
+    let elapsed = |i: usize| format!("0:00:{:02}.{:03}", i / 1000, i % 1000);
+    type Form = fn(usize, &dyn Fn(usize, &str) -> String, &dyn Fn(usize) -> String) -> String;
+    let cases: [(&str, &str, &str, bool, Form); 4] = [
+        ("german.csv", "Datum/Uhrzeit;A [g]", ";", true, |i, c, _| {
+            format!("28.11.2026 {}", c(i, ","))
+        }),
+        ("excel-us.csv", "Date/Time,A [g]", ",", false, |i, c, _| {
+            format!("11/28/2026 {} AM", c(i, "."))
+        }),
+        ("time-of-day.csv", "Time,A [g]", ",", false, |i, c, _| {
+            c(i, ".")
+        }),
+        ("elapsed.csv", "Time,A [g]", ",", false, |i, _, e| e(i)),
+    ];
+    for (name, header, sep, comma, form) in cases {
+        let mut text = format!("{header}\n");
+        for i in 0..N {
+            let v = format!("{:.9}", sample(i));
+            let v = if comma { v.replace('.', ",") } else { v };
+            text.push_str(&format!("{}{sep}{v}\n", form(i, &clock, &elapsed)));
+        }
+        let p = write(name, &text);
+        let log = check(&p, &IngestOptions::default(), "A [g]");
+        assert!(
+            log.info
+                .ingest
+                .notes
+                .iter()
+                .any(|n| n.contains("read as date-times or clock times")),
+            "{name}: {:?}",
+            log.info.ingest.notes
+        );
+    }
+}

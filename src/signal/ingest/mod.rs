@@ -15,6 +15,7 @@
 //! newline is not supported (numeric logs have none). Numbers are parsed by `fast-float2`.
 
 pub mod bandlimit;
+pub mod clock;
 pub mod freq_table;
 pub mod iso8601;
 mod plausible_rate;
@@ -537,11 +538,7 @@ fn time_unit_of(
     if let Some(u) = opts.time_unit {
         return Ok(u);
     }
-    if d.first_row
-        .get(col)
-        .and_then(|c| iso8601::parse(c))
-        .is_some()
-    {
+    if d.first_row.get(col).and_then(|c| clock::parse(c)).is_some() {
         return Ok(TimeUnit::Iso8601);
     }
     if let Some(u) = d
@@ -592,8 +589,8 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
     ignored.extend(d.metadata_columns.iter().map(|m| m.0));
     ignored.sort_unstable();
     check_names(file, &header, &ignored, opts.channels.is_some())?;
-    // A column of ISO 8601 date-times is time whatever its name (`Zeit`, `Date/Time`).
-    let iso = |i: usize| d.first_row.get(i).and_then(|c| iso8601::parse(c)).is_some();
+    // A column of date-times or clock times is time whatever its name (`Zeit`, `Date/Time`).
+    let iso = |i: usize| d.first_row.get(i).and_then(|c| clock::parse(c)).is_some();
     let mut time_col = header
         .iter()
         .enumerate()
@@ -624,6 +621,12 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
                 "time column `{}` read as an epoch timestamp in {} from its size (pass --time-unit to state it)",
                 header[tc],
                 u.name()
+            ));
+        } else if u == TimeUnit::Iso8601 {
+            notes.push(format!(
+                "time column `{}` read as date-times or clock times (`{}`), in seconds from the first row",
+                header[tc],
+                d.first_row.get(tc).map_or("", String::as_str)
             ));
         } else if u != TimeUnit::S {
             notes.push(format!("time column `{}` in {}", header[tc], u.name()));
@@ -888,7 +891,7 @@ impl RowLayout {
         match self.iso_time {
             Some((tc, origin)) if tc == c => std::str::from_utf8(bytes)
                 .ok()
-                .and_then(iso8601::parse)
+                .and_then(clock::parse)
                 .map(|t| t.since(origin)),
             _ => parse_cell(bytes, self.decimal_comma),
         }
@@ -906,7 +909,7 @@ fn iso_origin(
         return Ok(None);
     };
     let first = d.first_row.get(tc).map_or("", String::as_str);
-    match iso8601::parse(first) {
+    match clock::parse(first) {
         Some(t) => Ok(Some((tc, t))),
         None => Err(SignalError::BadCell {
             file: file.to_path_buf(),
@@ -918,7 +921,7 @@ fn iso_origin(
                 .cloned()
                 .unwrap_or_default(),
             text: first.to_string(),
-            what: "not an ISO 8601 date-time (YYYY-MM-DDThh:mm:ss[.f][Z|+hh:mm])",
+            what: "not a date-time or clock time (YYYY-MM-DDThh:mm:ss[.f][Z|+hh:mm], DD.MM.YYYY hh:mm:ss[,f], MM/DD/YYYY hh:mm:ss[.f] [AM|PM], hh:mm:ss[.f])",
         }),
     }
 }

@@ -113,7 +113,7 @@ fn numeric_row(fields: &[String], decimal_comma: bool) -> bool {
         if f.is_empty() {
             continue;
         }
-        if number(f, decimal_comma).is_none() && super::iso8601::parse(f).is_none() {
+        if number(f, decimal_comma).is_none() && super::clock::parse(f).is_none() {
             return false;
         }
         any = true;
