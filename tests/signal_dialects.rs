@@ -616,3 +616,40 @@ fn locale_date_times_and_clock_times_are_time_columns() {
         );
     }
 }
+
+/// A PicoQuake-style IMU export (its documented layout: `# Config: data_rate = 2000.0 Hz,
+/// filter = 488 Hz, ...`, a `count` column, accelerations and gyro rates at rest), 10 000
+/// samples of a 100 Hz sine of amplitude 1: the rate comes from the clause that names it (not
+/// the filter's 488 Hz), `count` is not a channel, the default segment is shortened so that
+/// at least 7 segments are averaged, and the constant gyro channel reports no peaks but a
+/// warning. RMS of the sine: 1/√2 (analytic, 1e-4 for the 4-decimal values).
+#[test]
+fn an_imu_export_with_its_rate_among_other_settings_and_a_sample_counter() {
+    let mut text = String::from(
+        "# PLab PicoQuake Data\n# Num. samples: 10000, Duration: 5.0 s\n\
+         # Config: data_rate = 2000.0 Hz, filter = 488 Hz, acc_range = 4 g, gyro_range = 250.0 dps\n\
+         count,a_x,g_x\n",
+    );
+    for i in 0..10_000 {
+        let a = (2.0 * std::f64::consts::PI * 100.0 * i as f64 / 2000.0).sin();
+        text.push_str(&format!("{},{a:.4},19.70\n", i + 1));
+    }
+    let p = write("picoquake.csv", &text);
+    let (code, out, err) = crate::common::run_text(&["psd", p.to_str().unwrap(), "--json"], None);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["fs_hz"].as_f64(), Some(2000.0));
+    let names: Vec<&str> = v["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["a_x", "g_x"]);
+    assert!(err.contains("column `count` numbers the samples"), "{err}");
+    assert!(v["segments"].as_u64().unwrap() >= 7, "{}", v["segments"]);
+    let rms = v["channels"][0]["rms"].as_f64().unwrap();
+    assert!((rms - 0.5f64.sqrt()).abs() < 1e-4, "{rms}");
+    assert_eq!(v["channels"][1]["peaks"].as_array().map(Vec::len), Some(0));
+    assert!(err.contains("channel `g_x` is constant"), "{err}");
+}

@@ -7,13 +7,15 @@ use super::{Outcome, Printer};
 use satqual::Error;
 use satqual::pipeline::workflows::{
     self,
-    psd::{PsdRequest, PsdRun, ToleranceCheck},
+    psd::{PsdRequest, PsdRun, ToleranceCheck, is_constant},
 };
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
 
 use satqual::error::SignalError;
-use satqual::signal::welch::{MIN_NPERSEG, resolution_note, short_log_nperseg};
+use satqual::signal::welch::{
+    MIN_DEFAULT_AVERAGES, MIN_NPERSEG, averages_note, resolution_note, short_log_nperseg,
+};
 use satqual::signal::{PsdSource, ToleranceSpec, WelchOptions, read_profile};
 use serde_json::json;
 use std::path::PathBuf;
@@ -94,6 +96,25 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         }
         r => r?,
     };
+    // A log only a few default segments long would be one raw periodogram or little more:
+    // shorten the default segment as for a short log.
+    let samples = run.first().samples as usize;
+    let run = if args.welch.nperseg.is_none()
+        && !run.psd.source.is_read_spectrum()
+        && run.first().psd.segments < MIN_DEFAULT_AVERAGES
+        && short_log_nperseg(samples) < req.welch.nperseg
+    {
+        print_notes(&[format!(
+            "psd: the default segment of {} samples leaves {} average(s) of this {samples}-sample log: nperseg {} (--nperseg to choose)",
+            req.welch.nperseg,
+            run.first().psd.segments,
+            short_log_nperseg(samples)
+        )]);
+        req.welch.nperseg = short_log_nperseg(samples);
+        workflows::psd::run(&req)?
+    } else {
+        run
+    };
     let wopts = req.welch;
     print_ingest_notes(run.psd.info.as_ref());
     let warnings = resolution_warnings(&run, &wopts, profile_band);
@@ -137,8 +158,22 @@ fn resolution_warnings(
     }
     let fs = run.psd.fs_hz;
     let (lo, hi) = profile_band.unwrap_or((0.0, fs / 2.0));
+    let first = run.first();
     resolution_note(fs, wopts.nperseg, lo, hi.min(fs / 2.0))
         .into_iter()
+        .chain(averages_note(
+            first.psd.segments,
+            first.samples as usize,
+            wopts.nperseg,
+        ))
+        .chain(run.psd.channels.iter().filter(|c| is_constant(c)).map(|c| {
+            format!(
+                "channel `{}` is constant (its fluctuation, {:.3e}, is round-off of its RMS {:.6}): no peaks",
+                c.name,
+                c.grms,
+                c.rms.unwrap_or(0.0)
+            )
+        }))
         .collect()
 }
 

@@ -340,6 +340,10 @@ pub fn realizations_reporting(
             done(finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
             r
         })
+        // Collected whole first: a failing run is reported by the lowest index, not by
+        // whichever thread failed first.
+        .collect::<Vec<_>>()
+        .into_iter()
         .collect()
 }
 

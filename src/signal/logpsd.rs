@@ -219,7 +219,11 @@ fn psd_of_log(log: Log, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
                 samples: x.len() as u64,
             })
         })
-        .collect::<Result<_, SignalError>>()?;
+        // Collected whole first: the error reported is the first channel's in order, not
+        // whichever a thread met first.
+        .collect::<Vec<Result<_, SignalError>>>()
+        .into_iter()
+        .collect::<Result<_, _>>()?;
     let channels = finite_channels(&log.info.file, channels)?;
     Ok(LogPsd {
         source: PsdSource::Welch,
@@ -339,6 +343,9 @@ fn psd_of_uff(
                 })
             }
         })
+        // The first failing record in order, whatever the thread count.
+        .collect::<Vec<Result<_, _>>>()
+        .into_iter()
         .collect::<Result<_, _>>()?;
     let channels = finite_channels(path, channels)?;
     let fs_hz = channels.first().map_or(0.0, |c| c.psd.fs);

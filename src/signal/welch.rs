@@ -185,6 +185,29 @@ pub fn short_log_nperseg(len: usize) -> usize {
     n
 }
 
+/// Fewest Welch averages a default segment may leave: [`short_log_nperseg`]'s 4 segment
+/// lengths of signal at 50% overlap.
+pub const MIN_DEFAULT_AVERAGES: usize = 7;
+
+/// A note when fewer than [`MIN_DEFAULT_AVERAGES`] segments were averaged: each line of a
+/// Welch PSD then carries a normalised random error of about 1/√segments (Bendat & Piersol,
+/// Random Data, §8.5.4), 38% at 7 and 100% for a single periodogram.
+pub fn averages_note(segments: usize, samples: usize, nperseg: usize) -> Option<String> {
+    if segments >= MIN_DEFAULT_AVERAGES || segments == 0 {
+        return None;
+    }
+    let error = 100.0 / (segments as f64).sqrt();
+    let shorter = short_log_nperseg(samples);
+    let hint = if shorter < nperseg {
+        format!("; --nperseg {shorter} averages at least {MIN_DEFAULT_AVERAGES}")
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "only {segments} segment(s) of {nperseg} samples averaged: each PSD line has a random error of about {error:.0}% (1/√segments){hint}"
+    ))
+}
+
 /// Fewest lines a band must hold for its peaks and RMS to mean something.
 pub const MIN_LINES_IN_BAND: usize = 16;
 

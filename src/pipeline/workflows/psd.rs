@@ -63,8 +63,8 @@ pub fn run(req: &PsdRequest) -> Result<PsdRun, Error> {
         .channels
         .iter()
         .map(|c| match &peak_opts {
-            Some(o) => find_peaks(&c.psd.frequencies(), &c.psd.values, o),
-            None => Vec::new(),
+            Some(o) if !is_constant(c) => find_peaks(&c.psd.frequencies(), &c.psd.values, o),
+            _ => Vec::new(),
         })
         .collect();
     Ok(PsdRun {
@@ -72,6 +72,12 @@ pub fn run(req: &PsdRequest) -> Result<PsdRun, Error> {
         peaks,
         tolerance,
     })
+}
+
+/// A channel whose fluctuation is round-off of its level (a temperature or a gyro at rest
+/// logged as a constant): its spectrum is noise of the arithmetic, and has no peaks to report.
+pub fn is_constant(c: &ChannelPsd) -> bool {
+    c.rms.is_some_and(|rms| c.grms <= 1e-12 * rms) || c.grms == 0.0
 }
 
 /// One channel's PSD against a profile, over the profile's band.

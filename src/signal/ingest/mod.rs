@@ -447,6 +447,7 @@ fn plain_dialect(path: &Path, head: &[u8]) -> Result<Dialect, SignalError> {
         skipped_lines: 0,
         empty_columns: Vec::new(),
         metadata_columns: Vec::new(),
+        index_columns: Vec::new(),
         first_row: Vec::new(),
         preamble_rate: None,
         preamble_unit: None,
@@ -587,6 +588,7 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
     let header = header_names(file, d, opts)?;
     let mut ignored: Vec<usize> = d.empty_columns.clone();
     ignored.extend(d.metadata_columns.iter().map(|m| m.0));
+    ignored.extend(&d.index_columns);
     ignored.sort_unstable();
     check_names(file, &header, &ignored, opts.channels.is_some())?;
     // A column of date-times or clock times is time whatever its name (`Zeit`, `Date/Time`).
@@ -733,6 +735,12 @@ fn dialect_notes(file: &Path, d: &Dialect, header: &[String]) -> Vec<String> {
     for &c in &d.empty_columns {
         notes.push(format!(
             "{f}: column `{}` is empty: ignored",
+            column_label(header, c)
+        ));
+    }
+    for &c in &d.index_columns {
+        notes.push(format!(
+            "{f}: column `{}` numbers the samples (1 apart in every row of the head): not read as a channel",
             column_label(header, c)
         ));
     }

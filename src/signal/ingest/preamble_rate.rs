@@ -3,7 +3,7 @@
 //! `Sampling frequency [Hz]<TAB>1000`, `Sample interval: 0.5 ms`.
 
 /// Keys that name a rate (Hz unless a unit follows) or an interval (s unless a unit follows).
-const RATE_KEYS: [&str; 10] = [
+const RATE_KEYS: [&str; 16] = [
     "sample rate",
     "sampling rate",
     "sample frequency",
@@ -14,6 +14,13 @@ const RATE_KEYS: [&str; 10] = [
     "acquisition rate",
     "samples per second",
     "sample rate hz",
+    "data rate",
+    "output data rate",
+    "odr",
+    // German exports (HBM catman, imc): sampling rate, sampling frequency, measuring rate.
+    "abtastrate",
+    "abtastfrequenz",
+    "messrate",
 ];
 const INTERVAL_KEYS: [&str; 7] = [
     "dt",
@@ -26,11 +33,22 @@ const INTERVAL_KEYS: [&str; 7] = [
 ];
 
 /// The rate a preamble line states, in Hz, if it is one of the keys above with a positive
-/// number and a known unit.
+/// number and a known unit. A line may hold several settings (`# Config: data_rate = 2000.0
+/// Hz, filter = 488 Hz`): each clause after `, ` or `; ` is tried, and within a clause a
+/// `section:` prefix before the key.
 pub fn rate_of_line(line: &str, decimal_comma: bool) -> Option<f64> {
-    let (key, value) = key_value(line)?;
+    std::iter::once(line)
+        .chain(line.split(", ").flat_map(|c| c.split("; ")))
+        .find_map(|clause| {
+            let (key, value) = key_value(clause)?;
+            rate_of_pair(&key, value, decimal_comma)
+                .or_else(|| key_value(value).and_then(|(k, v)| rate_of_pair(&k, v, decimal_comma)))
+        })
+}
+
+fn rate_of_pair(key: &str, value: &str, decimal_comma: bool) -> Option<f64> {
     let value = value.trim_matches('"');
-    let (key, key_unit) = split_unit(&key);
+    let (key, key_unit) = split_unit(key);
     let key = key.split_whitespace().collect::<Vec<_>>().join(" ");
     let (number, value_unit) = split_number(value, decimal_comma)?;
     let unit = value_unit.or(key_unit).unwrap_or_default();
@@ -123,7 +141,12 @@ mod tests {
             let got = rate_of_line(line, false).unwrap_or(f64::NAN);
             assert!((got - hz).abs() <= 1e-9 * hz, "{line}: {got}");
         }
-        assert_eq!(rate_of_line("Abtastrate; 1000", false), None);
+        assert_eq!(rate_of_line("Messdauer; 1000", false), None);
+        // Several settings on one line (PicoQuake's CSV), and a German catman preamble.
+        let config = "# Config: data_rate = 2000.0 Hz, filter = 488 Hz, acc_range = 4 g";
+        assert_eq!(rate_of_line(config, false), Some(2000.0));
+        assert_eq!(rate_of_line("# Filter = 488 Hz, Range = 4 g", false), None);
+        assert_eq!(rate_of_line("Abtastrate; 1200 Hz", false), Some(1200.0));
         assert_eq!(rate_of_line("Sample rate: fast", false), None);
         assert_eq!(rate_of_line("Sample rate: 100 rpm", false), None);
         assert_eq!(rate_of_line("Sample rate: -5", false), None);

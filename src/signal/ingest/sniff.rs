@@ -60,6 +60,8 @@ pub struct Dialect {
     pub empty_columns: Vec<usize>,
     /// Columns filled only in the first rows: (column, the one value if there is one).
     pub metadata_columns: Vec<(usize, Option<f64>)>,
+    /// Columns that number the samples (`count`, `Sample #`: consecutive integers in the head).
+    pub index_columns: Vec<usize>,
     /// Fields per data row.
     pub width: usize,
     /// First data row's fields (for checks on the time column).
@@ -227,6 +229,10 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
         .filter(|f| f.len() == width)
         .collect();
     let (empty_columns, metadata_columns) = column_use(&rows, width, dec);
+    let index_columns = header
+        .as_ref()
+        .map(|h| index_columns(h, &rows, dec))
+        .unwrap_or_default();
     let preamble_end = header_idx.unwrap_or(data_idx);
     let preamble_rate = (0..preamble_end).find_map(|i| {
         super::preamble_rate::rate_of_line(lines[i].1, dec).map(|hz| (hz, i as u64 + 1))
@@ -244,6 +250,7 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
         skipped_lines: skipped,
         empty_columns,
         metadata_columns,
+        index_columns,
         width,
         first_row: rows.first().cloned().unwrap_or_default(),
         preamble_rate,
@@ -307,6 +314,46 @@ fn looks_like_units(fields: &[String]) -> bool {
         let t = f.trim_matches(|c| matches!(c, '[' | ']' | '(' | ')'));
         t.len() <= 14 && !t.contains(' ') && t.parse::<f64>().is_err()
     })
+}
+
+/// Names of a column that numbers the samples, once lower-cased and trimmed of `.`, `_`, `:`.
+const INDEX_NAMES: [&str; 16] = [
+    "count",
+    "counter",
+    "index",
+    "idx",
+    "sample",
+    "samples",
+    "sample no",
+    "sample nr",
+    "sample number",
+    "sample #",
+    "sample index",
+    "n",
+    "no",
+    "nr",
+    "#",
+    "scan",
+];
+
+/// Columns named like a sample counter whose values in the head step by exactly 1: they
+/// number the rows, they are not a measured channel.
+fn index_columns(header: &[String], rows: &[Vec<String>], dec: bool) -> Vec<usize> {
+    let named = |c: usize| {
+        let n = header[c].to_lowercase().replace(['.', '_', ':'], " ");
+        INDEX_NAMES.contains(&n.split_whitespace().collect::<Vec<_>>().join(" ").as_str())
+    };
+    let counts = |c: usize| {
+        let v: Option<Vec<f64>> = rows.iter().map(|r| number(&r[c], dec)).collect();
+        v.is_some_and(|v| {
+            v.len() >= 2
+                && v.windows(2)
+                    .all(|w| w[1] - w[0] == 1.0 && w[0].fract() == 0.0)
+        })
+    };
+    (0..header.len())
+        .filter(|&c| named(c) && counts(c))
+        .collect()
 }
 
 /// Columns empty in every row, and columns filled only in a first run of rows (metadata).
