@@ -653,3 +653,44 @@ fn an_imu_export_with_its_rate_among_other_settings_and_a_sample_counter() {
     assert_eq!(v["channels"][1]["peaks"].as_array().map(Vec::len), Some(0));
     assert!(err.contains("channel `g_x` is constant"), "{err}");
 }
+
+/// A spreadsheet's date-time column: serial days since 1899-12-30 (46000 = 2025-12-09),
+/// written with 12 decimals, one row per millisecond. Read as seconds it would be an
+/// 86.4 MHz log; it is read as days, with a note. Each stamp is rounded to 0.5e-12 day
+/// (43 ns), so the rate over the 1 s span is 1000 Hz within 1e-7 relative; the sine is whole.
+#[test]
+fn spreadsheet_serial_days_in_a_time_column_are_days() {
+    let mut text = String::from("Time,A [g]\n");
+    for i in 0..N {
+        let day = 46_000.0 + i as f64 / FS / 86_400.0;
+        text.push_str(&format!("{day:.12},{:.9}\n", sample(i)));
+    }
+    let p = write("serial-days.csv", &text);
+    let log = read_csv(&p, &IngestOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        (log.info.fs_hz - FS).abs() < FS * 1e-7,
+        "fs {}",
+        log.info.fs_hz
+    );
+    let x = log.channel("A [g]").unwrap();
+    assert_eq!(x.len(), N);
+    let want = 2.0 / 2f64.sqrt();
+    assert!((rms(x) - want).abs() < want * 1e-6, "rms {}", rms(x));
+    assert!(
+        log.info
+            .ingest
+            .notes
+            .iter()
+            .any(|n| n.contains("spreadsheet serial days")),
+        "{:?}",
+        log.info.ingest.notes
+    );
+    // Stated as seconds, the column is taken at its word, and the rate is refused only by
+    // the plausible range (86.4 MHz is inside it): the note is the guard, not an error.
+    let secs = IngestOptions {
+        time_unit: Some(TimeUnit::S),
+        ..Default::default()
+    };
+    let log = read_csv(&p, &secs).unwrap();
+    assert!(log.info.fs_hz > 8e7, "{}", log.info.fs_hz);
+}

@@ -59,7 +59,7 @@ pub struct DialectArgs {
     /// Column names of a headerless log, comma-separated.
     #[arg(long, value_delimiter = ',')]
     pub columns: Option<Vec<String>>,
-    /// Unit of the time column when its name states none: s, ms, us, ns or iso8601 (date-times).
+    /// Unit of the time column when its name states none: s, ms, us, ns, d (spreadsheet serial days) or iso8601 (date-times).
     #[arg(long)]
     pub time_unit: Option<String>,
     /// Use --fs even when the time column disagrees with it (the time column is ignored).

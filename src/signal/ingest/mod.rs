@@ -449,6 +449,7 @@ fn plain_dialect(path: &Path, head: &[u8]) -> Result<Dialect, SignalError> {
         metadata_columns: Vec::new(),
         index_columns: Vec::new(),
         first_row: Vec::new(),
+        second_row: Vec::new(),
         preamble_rate: None,
         preamble_unit: None,
     })
@@ -556,6 +557,9 @@ fn time_unit_of(
         .first_row
         .get(col)
         .and_then(|c| sniff::number(c, d.decimal_comma));
+    if is_spreadsheet_days(d, col) {
+        return Ok(TimeUnit::Days);
+    }
     match first {
         Some(v) if v.abs() > 1e8 => epoch_unit(v).ok_or_else(|| SignalError::Unsupported {
             file: file.to_path_buf(),
@@ -566,6 +570,21 @@ fn time_unit_of(
         }),
         _ => Ok(TimeUnit::S),
     }
+}
+
+/// Serial days since 1899-12-30 of the years 1970–2099, as spreadsheets store date-times.
+const SPREADSHEET_DAYS: std::ops::Range<f64> = 25_569.0..73_051.0;
+
+/// A time column whose unit nothing states, holding spreadsheet date-times: a first value
+/// among the serial days of 1970–2099 and a first step that, read in seconds, would be a rate
+/// above 1 MHz but, read in days, one of 1 mHz–1 MHz (a 1 kHz log steps by 1.16e-8 day).
+fn is_spreadsheet_days(d: &Dialect, col: usize) -> bool {
+    let value = |row: &[String]| row.get(col).and_then(|c| sniff::number(c, d.decimal_comma));
+    let (Some(t0), Some(t1)) = (value(&d.first_row), value(&d.second_row)) else {
+        return false;
+    };
+    let step = t1 - t0;
+    SPREADSHEET_DAYS.contains(&t0) && step > 0.0 && step < 1e-6 && step * 86_400.0 >= 1e-6
 }
 
 /// The unit of an epoch timestamp from its size alone, where that is unambiguous: the years
@@ -623,6 +642,11 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
                 "time column `{}` read as an epoch timestamp in {} from its size (pass --time-unit to state it)",
                 header[tc],
                 u.name()
+            ));
+        } else if u == TimeUnit::Days && opts.time_unit.is_none() {
+            notes.push(format!(
+                "time column `{}` read as spreadsheet serial days (days since 1899-12-30) from its size and step: in seconds it would be a rate above 1 MHz (pass --time-unit s to read seconds)",
+                header[tc]
             ));
         } else if u == TimeUnit::Iso8601 {
             notes.push(format!(

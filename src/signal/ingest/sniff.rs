@@ -66,6 +66,8 @@ pub struct Dialect {
     pub width: usize,
     /// First data row's fields (for checks on the time column).
     pub first_row: Vec<String>,
+    /// Second data row's fields (the time column's first step), empty if there is none.
+    pub second_row: Vec<String>,
     /// A sampling rate stated above the header (`Sample rate: 2048 Hz`): Hz and its line.
     pub preamble_rate: Option<(f64, u64)>,
     /// A unit stated above the header for every channel (`# Units: g`), and its line.
@@ -253,6 +255,7 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
         index_columns,
         width,
         first_row: rows.first().cloned().unwrap_or_default(),
+        second_row: rows.get(1).cloned().unwrap_or_default(),
         preamble_rate,
         preamble_unit,
     })

@@ -17,6 +17,9 @@ pub enum TimeUnit {
     /// ISO 8601 date-times, read as seconds from the first row's.
     #[serde(rename = "iso8601")]
     Iso8601,
+    /// Days, as spreadsheets count date-times (serial days since 1899-12-30).
+    #[serde(rename = "d")]
+    Days,
 }
 
 impl TimeUnit {
@@ -24,7 +27,7 @@ impl TimeUnit {
         Self::from_word(s).ok_or_else(|| SignalError::BadParameter {
             name: "time-unit",
             value: s.to_string(),
-            reason: "expected s, ms, us, ns or iso8601".into(),
+            reason: "expected s, ms, us, ns, d (days) or iso8601".into(),
         })
     }
 
@@ -35,6 +38,7 @@ impl TimeUnit {
             "us" | "µs" | "μs" | "usec" | "micros" => Some(TimeUnit::Us),
             "ns" | "nsec" | "nanos" => Some(TimeUnit::Ns),
             "iso8601" | "iso" => Some(TimeUnit::Iso8601),
+            "d" | "day" | "days" => Some(TimeUnit::Days),
             _ => None,
         }
     }
@@ -47,6 +51,7 @@ impl TimeUnit {
             TimeUnit::Us => 1e-6,
             TimeUnit::Ns => 1e-9,
             TimeUnit::Iso8601 => 1.0,
+            TimeUnit::Days => 86_400.0,
         }
     }
 
@@ -57,6 +62,7 @@ impl TimeUnit {
             TimeUnit::Us => "us",
             TimeUnit::Ns => "ns",
             TimeUnit::Iso8601 => "iso8601",
+            TimeUnit::Days => "d",
         }
     }
 }
