@@ -41,6 +41,15 @@ fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
 }
 
+/// Asserts that one of the reader's notes contains `needle`.
+fn assert_note(log: &satqual::signal::Log, needle: &str) {
+    let notes = &log.info.ingest.notes;
+    assert!(
+        notes.iter().any(|n| n.contains(needle)),
+        "`{needle}` not in {notes:?}"
+    );
+}
+
 /// The analytic checks: 1000 Hz (1e-9 relative), RMS 2/√2 (1e-6 relative), N samples.
 fn check(p: &std::path::Path, opts: &IngestOptions, channel: &str) -> satqual::signal::Log {
     let log = read_csv(p, opts).unwrap_or_else(|e| panic!("{e}"));
@@ -170,11 +179,7 @@ fn time_in_milliseconds_and_epoch_nanoseconds() {
         let p = write(&format!("epoch_{per_s}.csv"), &text);
         let log = read_csv(&p, &IngestOptions::default()).unwrap();
         assert_eq!(log.info.ingest.time_unit, Some(unit));
-        assert!(
-            log.info.ingest.notes.iter().any(|n| n.contains("epoch")),
-            "{:?}",
-            log.info.ingest.notes
-        );
+        assert_note(&log, "epoch");
         assert!(
             (log.info.fs_hz - FS).abs() < FS * 1e-6,
             "{}",
@@ -438,15 +443,7 @@ fn a_rate_stated_in_the_preamble_is_the_logs_rate() {
     }
     let p = write("preamble-rate.csv", &text);
     let log = check(&p, &IngestOptions::default(), "acc_g");
-    assert!(
-        log.info
-            .ingest
-            .notes
-            .iter()
-            .any(|n| n.contains("sampling rate 1000 Hz read from line 2")),
-        "{:?}",
-        log.info.ingest.notes
-    );
+    assert_note(&log, "sampling rate 1000 Hz read from line 2");
     let opts = IngestOptions {
         fs: Some(2000.0),
         ..IngestOptions::default()
@@ -484,15 +481,7 @@ fn a_unit_stated_in_the_preamble_is_the_unit_of_unlabelled_channels() {
         rms(log.channel("a2 [g]").unwrap()),
     );
     assert!((a1 * 9.80665 / a2 - 1.0).abs() < 1e-12, "{a1} {a2}");
-    assert!(
-        log.info
-            .ingest
-            .notes
-            .iter()
-            .any(|n| n.contains("unit m/s2 read from line 1")),
-        "{:?}",
-        log.info.ingest.notes
-    );
+    assert_note(&log, "unit m/s2 read from line 1");
 }
 
 /// Excel's "Unicode text" (UTF-16LE with a byte-order mark, tab, CRLF), the same in UTF-16BE
@@ -639,12 +628,7 @@ fn an_imu_export_with_its_rate_among_other_settings_and_a_sample_counter() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["fs_hz"].as_f64(), Some(2000.0));
-    let names: Vec<&str> = v["channels"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| c["name"].as_str().unwrap())
-        .collect();
+    let names = crate::common::channel_names(&v);
     assert_eq!(names, ["a_x", "g_x"]);
     assert!(err.contains("column `count` numbers the samples"), "{err}");
     assert!(v["segments"].as_u64().unwrap() >= 7, "{}", v["segments"]);
@@ -676,15 +660,7 @@ fn spreadsheet_serial_days_in_a_time_column_are_days() {
     assert_eq!(x.len(), N);
     let want = 2.0 / 2f64.sqrt();
     assert!((rms(x) - want).abs() < want * 1e-6, "rms {}", rms(x));
-    assert!(
-        log.info
-            .ingest
-            .notes
-            .iter()
-            .any(|n| n.contains("spreadsheet serial days")),
-        "{:?}",
-        log.info.ingest.notes
-    );
+    assert_note(&log, "spreadsheet serial days");
     // Stated as seconds, the column is taken at its word, and the rate is refused only by
     // the plausible range (86.4 MHz is inside it): the note is the guard, not an error.
     let secs = IngestOptions {

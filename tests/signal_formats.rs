@@ -302,12 +302,7 @@ fn lvm_from_the_command_line_is_read_by_its_header() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!((v["fs_hz"].as_f64().unwrap() - 4000.0).abs() < 1e-9);
-    let names: Vec<&str> = v["channels"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| c["name"].as_str().unwrap())
-        .collect();
+    let names = crate::common::channel_names(&v);
     assert_eq!(names, ["ax", "ay", "az"]);
     // The reader's decisions, in the JSON and on stderr: tab-separated, the header states no
     // decimal separator so the point is taken, time from the X column.

@@ -229,3 +229,11 @@ pub fn frf_record(id4: &str, node: i64, reference: i64, unit: &str, h: &[(f64, f
     s.push_str("    -1\n");
     s
 }
+
+/// The `name` of every entry of a command's JSON `channels` array, in order.
+pub fn channel_names(v: &serde_json::Value) -> Vec<&str> {
+    v["channels"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|c| c["name"].as_str()).collect())
+        .unwrap_or_default()
+}
