@@ -56,6 +56,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         f_min_hz: 0.0,
         f_max_hz: f64::INFINITY,
         db_per_decade: 20.0,
+        ..PeakOptions::default()
     };
     let ingest = args.reading.ingest(None)?;
     let run = workflows::signature::run(&SignatureRequest {

@@ -29,7 +29,13 @@ pub struct PeakOptions {
     pub f_max_hz: f64,
     /// 10 for power quantities (PSD), 20 for amplitudes (|H|).
     pub db_per_decade: f64,
+    /// Peaks further below the highest line of the band than this are dropped, dB.
+    pub dynamic_range_db: f64,
 }
+
+/// Beyond the 96 dB a 16-bit acquisition spans, a peak is the arithmetic's (round-off of
+/// float32 samples sits near −150 dB), not a feature of the structure or the test.
+pub const DYNAMIC_RANGE_DB: f64 = 100.0;
 
 impl Default for PeakOptions {
     fn default() -> Self {
@@ -39,6 +45,7 @@ impl Default for PeakOptions {
             f_min_hz: 0.0,
             f_max_hz: f64::INFINITY,
             db_per_decade: 10.0,
+            dynamic_range_db: DYNAMIC_RANGE_DB,
         }
     }
 }
@@ -77,11 +84,16 @@ pub fn find_peaks(freqs: &[f64], values: &[f64], opts: &PeakOptions) -> Vec<Peak
     }
     let k = opts.db_per_decade;
     let lv: Vec<f64> = values[..n].iter().map(|&v| db(v, k)).collect();
+    let in_band = |i: usize| freqs[i] >= opts.f_min_hz && freqs[i] <= opts.f_max_hz;
+    let top = (0..n)
+        .filter(|&i| in_band(i))
+        .map(|i| lv[i])
+        .fold(f64::NEG_INFINITY, f64::max);
     let mut found = Vec::new();
     for i in 1..n - 1 {
         if !(lv[i] > lv[i - 1] && lv[i] >= lv[i + 1])
-            || freqs[i] < opts.f_min_hz
-            || freqs[i] > opts.f_max_hz
+            || !in_band(i)
+            || lv[i] < top - opts.dynamic_range_db
         {
             continue;
         }
@@ -167,4 +179,27 @@ pub fn half_power_band(freqs: &[f64], mag: &[f64], i: usize, peak: f64) -> Optio
         }
     };
     Some((lo, hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Three isolated one-line peaks on a flat floor of 1e-20 (PSD, 10 dB per decade): at
+    /// 10 Hz (level 1), 20 Hz (1e-9: 90 dB down, kept) and 30 Hz (1e-15: 150 dB down, the
+    /// round-off of float32 samples, dropped by [`DYNAMIC_RANGE_DB`]).
+    #[test]
+    fn peaks_below_the_dynamic_range_are_dropped() {
+        let freqs: Vec<f64> = (0..40).map(f64::from).collect();
+        let mut values = vec![1e-20; 40];
+        (values[10], values[20], values[30]) = (1.0, 1e-9, 1e-15);
+        let found = find_peaks(&freqs, &values, &PeakOptions::default());
+        let at: Vec<usize> = found.iter().map(|p| p.line).collect();
+        assert_eq!(at, [10, 20]);
+        let all = PeakOptions {
+            dynamic_range_db: f64::INFINITY,
+            ..PeakOptions::default()
+        };
+        assert_eq!(find_peaks(&freqs, &values, &all).len(), 3);
+    }
 }
