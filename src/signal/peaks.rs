@@ -91,10 +91,8 @@ pub fn find_peaks(freqs: &[f64], values: &[f64], opts: &PeakOptions) -> Vec<Peak
         .fold(f64::NEG_INFINITY, f64::max);
     let mut found = Vec::new();
     for i in 1..n - 1 {
-        if !(lv[i] > lv[i - 1] && lv[i] >= lv[i + 1])
-            || !in_band(i)
-            || lv[i] < top - opts.dynamic_range_db
-        {
+        let local_max = lv[i] > lv[i - 1] && lv[i] >= lv[i + 1];
+        if !(local_max && in_band(i)) || lv[i] < top - opts.dynamic_range_db {
             continue;
         }
         // Bases: the lowest point on each side before a higher one (or the end).
