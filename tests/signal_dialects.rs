@@ -670,3 +670,62 @@ fn spreadsheet_serial_days_in_a_time_column_are_days() {
     let log = read_csv(&p, &secs).unwrap();
     assert!(log.info.fs_hz > 8e7, "{}", log.info.fs_hz);
 }
+
+/// An FRF's unit is stated: a German hammer export (Windows-1252, semicolon, decimal comma)
+/// whose response `Beschleunigung [m/s²]` is exactly 9.80665 × `Kraft [N]` of a seeded random
+/// force. The response is read in g, so it equals the force to the 7 written digits (H = 1
+/// g/N), and the JSON says `g/N`.
+#[test]
+fn an_frf_states_its_unit_from_the_channels_as_read() {
+    let mut state = 7u64;
+    let mut text = String::from("Zeit [s];Kraft [N];Beschleunigung [m/s²]\r\n");
+    for i in 0..8192 {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let f = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        let row = format!("{:.6};{f:.6e};{:.6e}\r\n", i as f64 / 1000.0, f * 9.80665);
+        text.push_str(&row.replace('.', ","));
+    }
+    let bytes: Vec<u8> = text
+        .chars()
+        .map(|c| if c == '²' { 0xB2 } else { c as u8 })
+        .collect();
+    let dir = crate::common::temp_dir("dialect-hammer");
+    let p = dir.join("hammer.csv");
+    std::fs::write(&p, bytes).unwrap();
+    let args = [
+        "frf",
+        p.to_str().unwrap(),
+        "--input",
+        "Kraft [N]",
+        "--output",
+        "Beschleunigung [m/s²]",
+    ];
+    let (code, out, err) =
+        crate::common::run_text(&[&args[..], &["--json", "--nperseg", "512"]].concat(), None);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["h_unit"], "g/N");
+    let (code, out, err) =
+        crate::common::run_text(&[&args[..], &["--nperseg", "512"]].concat(), None);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("H1 = Beschleunigung [m/s²]/Kraft [N]"),
+        "{out}"
+    );
+    let lib = satqual::signal::frf::read_frf_logs(
+        std::slice::from_ref(&p),
+        "Kraft [N]",
+        "Beschleunigung [m/s²]",
+        &IngestOptions::default(),
+    )
+    .unwrap();
+    let (force, accel) = (
+        lib[0].channel("Kraft [N]").unwrap(),
+        lib[0].channel("Beschleunigung [m/s²]").unwrap(),
+    );
+    for (f, a) in force.iter().zip(accel) {
+        assert!((a - f).abs() <= 1e-6 * f.abs().max(1e-3), "{a} g for {f} N");
+    }
+}

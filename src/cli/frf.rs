@@ -170,9 +170,10 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     )];
     for r in &run.resonances {
         human.push(format!(
-            "  {:10.2} Hz  |H1| {:.6e}  Q {}  coherence {:.4}",
+            "  {:10.2} Hz  |H1| {:.6e} {}  Q {}  coherence {:.4}",
             r.frequency_hz,
             r.magnitude,
+            run.h_unit,
             r.q.map_or("-".into(), |q| format!("{q:.1}")),
             r.coherence
         ));
@@ -199,6 +200,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         "fs_hz": h.fs,
         "segments": h.segments,
         "frequency_resolution_hz": h.df,
+        "h_unit": run.h_unit,
         "peaks": run.resonances.iter().map(peak_json).collect::<Vec<_>>(),
     });
     merge(&mut doc, run_json(&run));

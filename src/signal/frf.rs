@@ -183,6 +183,35 @@ fn check_live(log: &super::ingest::Log, name: &str, k: usize) -> Result<(), Sign
 /// Reads the `input` and `output` channels of every log (each read with `ingest`; all must
 /// share one sampling rate within 1e-6), refusing one channel named as both, a dead channel
 /// and a sample too large for the spectra.
+/// The unit of H = output / input as the FRF is computed: each channel's reported unit (g for
+/// an acceleration, whatever the file's), or, for values kept as they are, the unit its name
+/// states in brackets (`Force [N]` → N), else `as-is`.
+pub fn h_unit(log: &super::ingest::Log, input: &str, output: &str) -> String {
+    let label = |name: &str| {
+        let unit = log
+            .info
+            .channels
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.unit);
+        match unit {
+            Some(u) if u != super::ingest::Unit::AsIs => u.reported().to_string(),
+            _ => stated_unit(name).unwrap_or("as-is").to_string(),
+        }
+    };
+    format!("{}/{}", label(output), label(input))
+}
+
+/// The text in a name's closing brackets: `Kraft [N]` → `N`, `F (lbf)` → `lbf`.
+fn stated_unit(name: &str) -> Option<&str> {
+    let t = name.trim_end();
+    [('[', ']'), ('(', ')')].iter().find_map(|&(open, close)| {
+        let inner = t.strip_suffix(close)?;
+        let unit = inner[inner.rfind(open)? + 1..].trim();
+        (!unit.is_empty()).then_some(unit)
+    })
+}
+
 pub fn read_frf_logs(
     paths: &[std::path::PathBuf],
     input: &str,

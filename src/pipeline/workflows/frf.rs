@@ -5,7 +5,7 @@
 
 use crate::error::Error;
 use crate::signal::frf::frf;
-use crate::signal::frf::{frf_of_logs, read_frf_logs};
+use crate::signal::frf::{frf_of_logs, h_unit, read_frf_logs};
 use crate::signal::impact::{ImpactPulse, detect_hits, impact_welch};
 use crate::signal::impact_windows::{HitLog, ImpactWindows, corrected_q, hit_records};
 use crate::signal::ingest::{IngestRecord, Log};
@@ -68,10 +68,13 @@ pub struct FrfRun {
     pub ingest: Vec<(PathBuf, IngestRecord)>,
     /// Decisions and warnings worth a line on stderr.
     pub notes: Vec<String>,
+    /// Unit of H (output / input as computed: `g/N`).
+    pub h_unit: String,
 }
 
 pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
     let logs = read_frf_logs(req.logs, req.input, req.output, &req.ingest)?;
+    let h_unit = h_unit(&logs[0], req.input, req.output);
     let mut notes = Vec::new();
     let Estimate {
         mut frfs,
@@ -118,6 +121,7 @@ pub fn run(req: &FrfRequest) -> Result<FrfRun, Error> {
             .map(|l| (l.info.file.clone(), l.info.ingest.clone()))
             .collect(),
         notes,
+        h_unit,
     })
 }
 
