@@ -606,6 +606,41 @@ fn locale_date_times_and_clock_times_are_time_columns() {
     }
 }
 
+/// A logger's time of day that runs past midnight (`23:59:59.500` … `00:00:00.499`, one row per
+/// millisecond): the rows after midnight are counted on into the next day, with a note, so the
+/// rate is 1000 Hz (analytic, 1e-9) and the sine is read whole. A step back of less than half
+/// a day is still refused as a non-increasing time, at its line.
+#[test]
+fn a_time_of_day_running_past_midnight_counts_on() {
+    let stamp = |ms: usize| {
+        let ms = ms % 86_400_000;
+        let (h, m, s) = (ms / 3_600_000, ms / 60_000 % 60, ms / 1000 % 60);
+        format!("{h:02}:{m:02}:{s:02}.{:03}", ms % 1000)
+    };
+    let start = 86_400_000 - 500;
+    let mut text = String::from("Time,A [g]\n");
+    for i in 0..N {
+        text.push_str(&format!("{},{:.9}\n", stamp(start + i), sample(i)));
+    }
+    let p = write("midnight.csv", &text);
+    let log = check(&p, &IngestOptions::default(), "A [g]");
+    assert_note(&log, "line 502: the time of day passes midnight");
+    // Two rows swapped one second apart are not a midnight.
+    let mut back = String::from("Time,A [g]\n");
+    for i in 0..N {
+        let ms = 36_000_000 + i + if i == 10 { 1000 } else { 0 };
+        back.push_str(&format!("{},{:.9}\n", stamp(ms), sample(i)));
+    }
+    let p = write("clock-back.csv", &back);
+    let e = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 13: time") && e.contains("does not increase"),
+        "{e}"
+    );
+}
+
 /// A PicoQuake-style IMU export (its documented layout: `# Config: data_rate = 2000.0 Hz,
 /// filter = 488 Hz, ...`, a `count` column, accelerations and gyro rates at rest), 10 000
 /// samples of a 100 Hz sine of amplitude 1: the rate comes from the clause that names it (not

@@ -14,15 +14,29 @@ pub fn parse(text: &str) -> Option<Instant> {
     iso8601::parse(text).or_else(|| local(text.trim().trim_matches('"')))
 }
 
-fn local(t: &str) -> Option<Instant> {
+/// True for a clock time with no date (`23:59:58.5`, `11:59:58 PM`): such a column starts
+/// again from zero when the log runs past midnight.
+pub fn is_time_of_day(text: &str) -> bool {
+    let t = text.trim().trim_matches('"');
+    iso8601::parse(t).is_none()
+        && local(t).is_some()
+        && parts(t).is_some_and(|(date, _, _)| date.is_none())
+}
+
+/// A cell's date, clock and AM/PM tokens.
+fn parts(t: &str) -> Option<(Option<&str>, &str, Option<bool>)> {
     let tokens: Vec<&str> = t.split_whitespace().collect();
-    let (date, clock, meridiem) = match tokens.as_slice() {
+    Some(match tokens.as_slice() {
         [c] => (None, *c, None),
         [c, m] if meridiem_of(m).is_some() => (None, *c, meridiem_of(m)),
         [d, c] => (Some(*d), *c, None),
         [d, c, m] => (Some(*d), *c, Some(meridiem_of(m)?)),
         _ => return None,
-    };
+    })
+}
+
+fn local(t: &str) -> Option<Instant> {
+    let (date, clock, meridiem) = parts(t)?;
     let days = match date {
         Some(d) => civil_days(d)?,
         None => 0,
@@ -131,6 +145,16 @@ mod tests {
         let pm = parse("11/28/2026 12:00:00 PM").unwrap();
         let am = parse("11/28/2026 12:00:00 AM").unwrap();
         assert_eq!(pm.seconds - am.seconds, 12 * 3600);
+    }
+
+    #[test]
+    fn only_a_clock_without_a_date_is_a_time_of_day() {
+        for t in ["23:59:58.5", "11:59:58 PM", "\"0:00:01\""] {
+            assert!(is_time_of_day(t), "{t}");
+        }
+        for t in ["28.11.2026 23:59:58", "2026-11-28T23:59:58", "1.5", "noon"] {
+            assert!(!is_time_of_day(t), "{t}");
+        }
     }
 
     #[test]

@@ -314,12 +314,14 @@ pub fn stream_csv(
     };
     let mut rows: u64 = 0;
     let mut timing = Timing::new(opts, fpath.clone());
+    let mut midnight = MidnightCrossing::new(&dialect, layout.iso_time);
     let mut feed = |vals: &[f64], lines: &[u64]| -> Result<(), SignalError> {
         let w = layout.width;
         for (row, &line) in vals.chunks_exact(w).zip(lines) {
             rows += 1;
             if time_col.is_some() {
-                timing.push(row[0], line, &row[1..], &mut sink)?;
+                let t = midnight.count_on(row[0], line);
+                timing.push(t, line, &row[1..], &mut sink)?;
             } else {
                 sink(row);
             }
@@ -354,6 +356,7 @@ pub fn stream_csv(
     };
     let mut record = plan.record;
     record.notes.splice(0..0, form.note(&fpath));
+    record.notes.extend(midnight.note(&fpath));
     record.notes.extend(timing_notes(&fpath, &outcome));
     record.jitter = outcome.jitter;
     Ok(LogInfo {
@@ -927,6 +930,56 @@ impl RowLayout {
                 .map(|t| t.since(origin)),
             _ => parse_cell(bytes, self.decimal_comma),
         }
+    }
+}
+
+/// A time-of-day column (a clock with no date) starts again from zero when a long log runs
+/// past midnight; a drop of more than half a day is that, and the rows after it are counted
+/// on into the next day. Any other step back stays a non-increasing time.
+struct MidnightCrossing {
+    applies: bool,
+    offset_s: f64,
+    previous_s: f64,
+    crossings: Vec<u64>,
+}
+
+impl MidnightCrossing {
+    fn new(d: &Dialect, iso_time: Option<(usize, iso8601::Instant)>) -> MidnightCrossing {
+        let applies = iso_time.is_some_and(|(tc, _)| {
+            d.first_row
+                .get(tc)
+                .is_some_and(|c| clock::is_time_of_day(c))
+        });
+        MidnightCrossing {
+            applies,
+            offset_s: 0.0,
+            previous_s: f64::NEG_INFINITY,
+            crossings: Vec::new(),
+        }
+    }
+
+    /// Seconds from the first row, a day added at every midnight passed.
+    fn count_on(&mut self, t_s: f64, line: u64) -> f64 {
+        if !self.applies {
+            return t_s;
+        }
+        let mut t = t_s + self.offset_s;
+        if t < self.previous_s - 43_200.0 {
+            self.offset_s += 86_400.0;
+            t += 86_400.0;
+            self.crossings.push(line);
+        }
+        self.previous_s = t;
+        t
+    }
+
+    fn note(&self, file: &Path) -> Option<String> {
+        let first = self.crossings.first()?;
+        Some(format!(
+            "{}: line {first}: the time of day passes midnight; counted on into the next day ({} midnight(s))",
+            file.display(),
+            self.crossings.len()
+        ))
     }
 }
 
