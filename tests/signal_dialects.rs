@@ -641,6 +641,35 @@ fn a_time_of_day_running_past_midnight_counts_on() {
     );
 }
 
+/// A logger that ends its export with text (`End of data`, a blank line, `Stopped by
+/// operator;;`, CRLF, semicolons and decimal commas): the data ends before it, with a note
+/// naming the line, and the sine is read whole (analytic rate and RMS in `check`). The same
+/// text line with data after it is an unreadable row, refused at its line.
+#[test]
+fn a_text_trailer_after_the_data_ends_the_log() {
+    let body = rows(";", 1.0, 0.0, true).replace('\n', "\r\n");
+    let text = format!("time;A [g]\r\n{body}End of data\r\n\r\nStopped by operator;;\r\n");
+    let p = write("trailer.csv", &text);
+    let log = check(&p, &IngestOptions::default(), "A [g]");
+    let line = N + 2;
+    assert_note(
+        &log,
+        &format!("line {line}: the data ends; 2 trailing line(s)"),
+    );
+    let inside = format!(
+        "time;A [g]\n{body}End of data\n{}",
+        rows(";", 1.0, 2.0, true)
+    );
+    let p = write("text-inside.csv", &inside);
+    let e = read_csv(&p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(&format!("line {line}: expected 2 fields")),
+        "{e}"
+    );
+}
+
 /// A PicoQuake-style IMU export (its documented layout: `# Config: data_rate = 2000.0 Hz,
 /// filter = 488 Hz, ...`, a `count` column, accelerations and gyro rates at rest), 10 000
 /// samples of a 100 Hz sine of amplitude 1: the rate comes from the clause that names it (not

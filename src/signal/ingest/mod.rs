@@ -25,6 +25,7 @@ pub mod sniff;
 pub mod text;
 mod time_unit;
 mod timing;
+mod trailer;
 mod unit;
 
 use crate::error::SignalError;
@@ -333,7 +334,7 @@ pub fn stream_csv(
     let block = (size as usize)
         .saturating_add(1)
         .clamp(1 << 12, BLOCK_BYTES);
-    read_rows(&mut reader, &layout, block, dialect.data_line, &mut feed)?;
+    let trailer = read_rows(&mut reader, &layout, block, dialect.data_line, &mut feed)?;
     if rows == 0 {
         return Err(SignalError::HeaderOnly {
             file: fpath.clone(),
@@ -357,6 +358,7 @@ pub fn stream_csv(
     let mut record = plan.record;
     record.notes.splice(0..0, form.note(&fpath));
     record.notes.extend(midnight.note(&fpath));
+    record.notes.extend(trailer.map(|t| t.note(&fpath)));
     record.notes.extend(timing_notes(&fpath, &outcome));
     record.jitter = outcome.jitter;
     Ok(LogInfo {
@@ -1019,6 +1021,8 @@ struct Parsed {
     vals: Vec<f64>,
     lines: Vec<u64>,
     err: Option<SignalError>,
+    /// Byte offset in the chunk of the line that stopped it.
+    err_at: usize,
     count: u64,
 }
 
@@ -1182,6 +1186,7 @@ fn parse_chunk(chunk: &[u8], l: &RowLayout) -> Parsed {
         vals: Vec::with_capacity(chunk.len() / 8),
         lines: Vec::with_capacity(chunk.len() / 24),
         err: None,
+        err_at: 0,
         count: 0,
     };
     let mut start = 0usize;
@@ -1203,6 +1208,7 @@ fn parse_chunk(chunk: &[u8], l: &RowLayout) -> Parsed {
             Err(e) => {
                 p.vals.truncate(p.lines.len() * l.width);
                 p.err = Some(e);
+                p.err_at = start;
                 break;
             }
         }
@@ -1271,6 +1277,7 @@ fn parse_quoted(chunk: &[u8], first_line: u64, l: &RowLayout) -> Parsed {
         if rec.len() == 1 && rec.get(0).is_some_and(|b| b.trim_ascii().is_empty()) {
             continue;
         }
+        p.err_at = rec.position().map_or(0, |q| q.byte() as usize);
         if rec.len() != l.slots.len() {
             p.err = Some(SignalError::RaggedRow {
                 file: l.file.clone(),
@@ -1312,7 +1319,7 @@ fn read_rows(
     block: usize,
     first_line: u64,
     feed: &mut impl FnMut(&[f64], &[u64]) -> Result<(), SignalError>,
-) -> Result<(), SignalError> {
+) -> Result<Option<trailer::Trailer>, SignalError> {
     use rayon::prelude::*;
     let mut next_line: u64 = first_line;
     let mut carry: Vec<u8> = Vec::new();
@@ -1334,7 +1341,7 @@ fn read_rows(
         let eof = have + got < buf.len();
         buf.truncate(have + got);
         if buf.is_empty() {
-            return Ok(());
+            return Ok(None);
         }
         let cut = if eof {
             buf.len()
@@ -1378,7 +1385,7 @@ fn read_rows(
             let p = parse_quoted(body, next_line, l);
             feed(&p.vals, &p.lines)?;
             if let Some(e) = p.err {
-                return Err(e);
+                return trailer_or(e, &body[p.err_at..], &carry, reader, l);
             }
             next_line += memchr::memchr_iter(b'\n', &buf).count() as u64;
         } else {
@@ -1386,12 +1393,13 @@ fn read_rows(
                 .par_iter()
                 .map(|&(a, b)| parse_chunk(&body[a..b], l))
                 .collect();
-            for mut p in parsed {
+            for (mut p, &(a, _)) in parsed.into_iter().zip(&spans) {
                 let offset = next_line;
                 p.lines.iter_mut().for_each(|n| *n += offset);
                 feed(&p.vals, &p.lines)?;
                 if let Some(e) = p.err {
-                    return Err(shift_line(e, offset));
+                    let rest = &body[a + p.err_at..];
+                    return trailer_or(shift_line(e, offset), rest, &carry, reader, l);
                 }
                 next_line += p.count;
             }
@@ -1401,8 +1409,31 @@ fn read_rows(
             next_line += u64::from(buf.ends_with(b"\n"));
         }
         if eof {
-            return Ok(());
+            return Ok(None);
         }
+    }
+}
+
+/// The unreadable row's error, unless it and everything after it is a trailer.
+fn trailer_or(
+    e: SignalError,
+    rest: &[u8],
+    carry: &[u8],
+    reader: &mut impl Read,
+    l: &RowLayout,
+) -> Result<Option<trailer::Trailer>, SignalError> {
+    let line = match &e {
+        SignalError::RaggedRow { line, .. } | SignalError::BadCell { line, .. } => *line,
+        _ => return Err(e),
+    };
+    let cells = trailer::Cells {
+        delim: l.delim,
+        whitespace: l.whitespace,
+        decimal_comma: l.decimal_comma,
+    };
+    match trailer::find(rest, carry, reader, &cells) {
+        Some(t) => Ok(Some(trailer::Trailer { line, ..t })),
+        None => Err(e),
     }
 }
 
