@@ -178,10 +178,7 @@ pub enum SignalError {
     },
     #[error("{}: {message}", file.display())]
     Unsupported { file: PathBuf, message: String },
-    #[error(
-        "nperseg = {nperseg} is longer than the signal ({len} samples){}",
-        channel_suffix(channel)
-    )]
+    #[error("{}", segment_too_long(*nperseg, *len, channel))]
     SegmentTooLong {
         nperseg: usize,
         len: usize,
@@ -199,6 +196,21 @@ pub enum SignalError {
     Channel { channel: String, message: String },
     #[error("{0}")]
     Invalid(String),
+}
+
+fn segment_too_long(nperseg: usize, len: usize, channel: &str) -> String {
+    let min = crate::signal::welch::MIN_NPERSEG;
+    if len < min {
+        format!(
+            "the signal{} has {len} samples, fewer than the {min} of the shortest Welch segment: too short for a spectrum (a shock record goes to `satqual srs`)",
+            channel_suffix(channel)
+        )
+    } else {
+        format!(
+            "nperseg = {nperseg} is longer than the signal ({len} samples){}",
+            channel_suffix(channel)
+        )
+    }
 }
 
 fn channel_suffix(channel: &str) -> String {

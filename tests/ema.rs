@@ -15,6 +15,7 @@ fn options(method: Method) -> EmaOptions {
         f_hi: 200.0,
         method,
         order_max: 40,
+        order_max_is_default: false,
         form: FrfForm::Accelerance,
         criteria: Criteria::default(),
         peaks: PeakOptions::default(),

@@ -286,6 +286,25 @@ fn uff58_unit_comes_from_the_units_field_not_the_axis_label() {
     let want = 2.0 / 2f64.sqrt();
     let rms = ch["rms"].as_f64().unwrap();
     assert!((rms - want).abs() < want * 1e-5, "{rms}");
+    // The same units field as a Windows exporter writes it: `m/s²` with ² as the Windows-1252
+    // byte 0xB2 (a catman export in pyuff's test data has such a header).
+    let text = uff58("Acceleration", "m/s²", 9.80665);
+    let bytes: Vec<u8> = text
+        .replace('²', "\u{1}")
+        .bytes()
+        .map(|b| if b == 1 { 0xB2 } else { b })
+        .collect();
+    let p = write("acc-cp1252.uff", "");
+    std::fs::write(&p, bytes).unwrap();
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["channels"][0]["unit"], "g", "{out}");
+    let rms = v["channels"][0]["rms"].as_f64().unwrap();
+    assert!((rms - want).abs() < want * 1e-5, "{rms}");
     // A pressure channel labelled `General` is not in g.
     let p = write("pa.uff", &uff58("General", "Pa", 1.0));
     let (code, out, err) = crate::common::run_text(

@@ -194,6 +194,33 @@ fn lvm_header_decides_separator_decimal_units_and_rate() {
     assert_eq!(fs, 1.0);
 }
 
+/// An LVM file cut short: short.lvm (lvm_read's test data) announces `Samples 10` per channel
+/// and holds 10 rows; with its header saying 8192, the 10 rows are still read, and a warning
+/// names the segment's line and both counts. The file as published has no warning.
+#[test]
+fn an_lvm_file_holding_fewer_rows_than_its_header_announces_is_flagged() {
+    let p = repo_path("data/realdata/dialects/lvm_read/short.lvm");
+    let log = read_log(&p, &IngestOptions::default()).unwrap();
+    assert!(
+        log.info.ingest.warnings.is_empty(),
+        "{:?}",
+        log.info.ingest.warnings
+    );
+    let text = std::fs::read(&p).unwrap();
+    let cut = String::from_utf8_lossy(&text).replace("Samples\t10\t10", "Samples\t8192\t8192");
+    assert_ne!(cut.as_bytes(), text.as_slice());
+    let q = crate::common::temp_dir("lvm-cut").join("cut.lvm");
+    std::fs::write(&q, cut).unwrap();
+    let log = read_log(&q, &IngestOptions::default()).unwrap();
+    assert_eq!(log.data[0].len(), 10);
+    let w = log.info.ingest.warnings.join("\n");
+    assert!(
+        w.contains("line 15:")
+            && w.contains("announces 8192 samples per channel, but 10 rows follow"),
+        "{w}"
+    );
+}
+
 /// A LabVIEW segment holding channels of two rates (uneven_comments.lvm: 24 channels at
 /// Delta_X 0.5 s on every row, 5 at 1 s written on every fourth row and empty between): the
 /// full channels are read at the X column's 2 Hz, each slower one is listed as not read with
@@ -313,7 +340,7 @@ fn lvm_from_the_command_line_is_read_by_its_header() {
     let (code, _, err) = run_text(&["psd", path, "--json"], None);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("(4 samples)") && err.contains("channel `ax"),
+        err.contains("has 4 samples, fewer than the 16") && err.contains("channel `ax"),
         "{err}"
     );
 }

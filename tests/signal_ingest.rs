@@ -492,7 +492,10 @@ fn absurd_parameters_are_errors_not_allocations() {
         },
     )
     .unwrap_err();
-    assert!(e.to_string().contains("longer than the signal"), "{e}");
+    assert!(
+        e.to_string().contains("has 10 samples, fewer than the 16"),
+        "{e}"
+    );
     let o = satqual::signal::SweepOptions {
         block_s: 1e300,
         hop_s: 1e300,

@@ -34,6 +34,7 @@ pub fn run() -> Result<(String, String), Error> {
                 f_hi: 200.0,
                 method: Method::Lscf,
                 order_max,
+                order_max_is_default: false,
                 form: FrfForm::Accelerance,
                 criteria: Criteria::default(),
                 peaks: PeakOptions::default(),

@@ -18,6 +18,9 @@ use satqual::report::write_atomic;
 use satqual::signal::PeakOptions;
 use satqual::signal::ema::measured::Layout;
 use satqual::signal::ema::{Criteria, EmaModel, EmaOptions, FrfForm, FrfSet, Method, Stability};
+
+/// LSCF model order fitted up to when --order-max is not given: room for about 30 modes.
+const DEFAULT_ORDER_MAX: usize = 60;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -42,9 +45,10 @@ pub struct Args {
     /// lscf (least-squares complex frequency + LSFD) or peak (half-power peak picking).
     #[arg(long, default_value = "lscf")]
     pub method: String,
-    /// Highest LSCF model order (even; orders 2, 4, ... up to it are fitted).
-    #[arg(long, default_value_t = 60)]
-    pub order_max: usize,
+    /// Highest LSCF model order (even; orders 2, 4, ... up to it are fitted) [default: 60, or
+    /// what a narrow band's lines support]
+    #[arg(long)]
+    pub order_max: Option<usize>,
     /// Distinct orders at which a pole must be stable to be selected.
     #[arg(long, default_value_t = 5)]
     pub min_stable: usize,
@@ -98,7 +102,8 @@ fn options(args: &Args) -> Result<EmaOptions, Error> {
         f_lo: args.fmin.unwrap_or(0.0),
         f_hi: args.fmax.unwrap_or(f64::MAX),
         method,
-        order_max: args.order_max,
+        order_max: args.order_max.unwrap_or(DEFAULT_ORDER_MAX),
+        order_max_is_default: args.order_max.is_none(),
         form,
         criteria: Criteria {
             min_orders: args.min_stable,

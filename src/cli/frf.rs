@@ -18,7 +18,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// One or more CSV logs; their segments are averaged together.
+    /// One or more logs (CSV or text, UFF58/58b, LabVIEW .lvm, MATLAB .mat v5, TDMS, WAV); their segments are averaged together.
     #[arg(required = true)]
     pub logs: Vec<PathBuf>,
     /// Input (reference) channel, e.g. the force or the drive.

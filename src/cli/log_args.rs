@@ -124,6 +124,12 @@ impl WelchArgs {
 /// Prints the reader's dialect decisions once, on stderr (stdout may hold the JSON).
 pub fn print_ingest_notes(info: Option<&LogInfo>) {
     print_notes(info.map(|i| i.ingest.notes.as_slice()).unwrap_or_default());
+    for w in info
+        .map(|i| i.ingest.warnings.as_slice())
+        .unwrap_or_default()
+    {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// Prints decisions and warnings, one `note:` line each, on stderr.

@@ -57,7 +57,7 @@ pub enum Command {
     Sine(sine::Args),
     /// Random-vibration base-excitation response (Grms, 3σ), loads and margins.
     Random(random::Args),
-    /// Welch PSD of a log (CSV or UFF58): Grms, RMS, peaks, tolerance bands against a profile.
+    /// Welch PSD of a log (CSV or text, UFF58/58b, .lvm, .mat, TDMS, WAV): Grms, RMS, peaks, tolerance bands against a profile.
     Psd(psd::Args),
     /// Frequency response H1/H2 and coherence between two channels, with resonances and Q.
     Frf(frf::Args),

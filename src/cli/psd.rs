@@ -22,7 +22,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Log file: CSV with a header (and a time column or --fs), or ASCII UFF58.
+    /// Log file: CSV or text with a header (and a time column or --fs), UFF58/58b (time histories or PSDs), LabVIEW .lvm, MATLAB .mat (v5), TDMS or WAV.
     pub log: PathBuf,
     /// Channels to process, comma-separated (default: every non-time column).
     #[arg(long, value_delimiter = ',')]
@@ -137,7 +137,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let what = format!("psd JSON output of {}", args.log.display());
     satqual::output_check::check_sources(&sources, &what)?;
     let mut doc = document(&args, &run, &wopts, pass);
-    doc["warnings"] = json!(warnings);
+    let file_warnings = run.psd.info.as_ref().map(|i| i.ingest.warnings.clone());
+    doc["warnings"] = json!([file_warnings.unwrap_or_default(), warnings].concat());
     p.json(&doc)?;
     Ok(if pass {
         Outcome::Pass
@@ -175,6 +176,19 @@ fn resolution_warnings(
             )
         }))
         .collect()
+}
+
+/// The peaks' frequencies, or why there are none to list.
+fn peak_list(peaks: &[satqual::signal::peaks::Peak]) -> String {
+    if peaks.is_empty() {
+        return "none (no local maximum with 6 dB prominence within 100 dB of the highest line)"
+            .into();
+    }
+    peaks
+        .iter()
+        .map(|p| format!("{:.2} Hz", p.frequency_hz))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Lowest and highest frequency of a profile's breakpoints.
@@ -216,11 +230,7 @@ fn summary(args: &Args, run: &PsdRun, wopts: &WelchOptions) -> Vec<String> {
             c.grms,
             c.unit,
             c.rms.map_or("-".into(), |r| format!("{r:.6}")),
-            peaks
-                .iter()
-                .map(|p| format!("{:.2} Hz", p.frequency_hz))
-                .collect::<Vec<_>>()
-                .join(", ")
+            peak_list(peaks)
         ));
     }
     if let Some(r) = res.info.as_ref().and_then(|i| i.resampled.as_ref()) {

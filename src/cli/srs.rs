@@ -9,13 +9,14 @@ use satqual::Error;
 use satqual::report::plot::{Series, loglog_svg};
 use satqual::report::write_atomic;
 use satqual::signal::srs::{SpecCheck, SpecTolerance, check_against_spec};
+use satqual::signal::welch::round_to_micro;
 use satqual::signal::{LogSrs, Offset, SrsOptions, read_profile, srs_of_file};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Shock record: CSV with a header (and a time column or --fs), or ASCII UFF58 time histories.
+    /// Shock record: CSV or text with a header (and a time column or --fs), UFF58/58b time histories, LabVIEW .lvm, MATLAB .mat (v5), TDMS or WAV.
     pub log: PathBuf,
     /// Channels to process, comma-separated (default: every non-time column).
     #[arg(long, value_delimiter = ',')]
@@ -69,11 +70,14 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let res = srs_of_file(&args.log, &ingest, &opts)?;
     if let Some(record) = &res.ingest {
         super::log_args::print_notes(&record.notes);
+        for w in &record.warnings {
+            eprintln!("warning: {w}");
+        }
     }
     if args.fmax.is_none() {
         super::log_args::print_notes(&[format!(
             "srs: natural frequencies up to {} Hz (default fs/10, at most 10 kHz; --fmax to change)",
-            res.options.fmax_hz
+            round_to_micro(res.options.fmax_hz)
         )]);
     }
     let checks = match &args.spec {
@@ -141,8 +145,8 @@ fn summary(res: &LogSrs) -> Vec<String> {
         res.channels.len(),
         res.fs_hz,
         o.q,
-        o.fmin_hz,
-        o.fmax_hz,
+        round_to_micro(o.fmin_hz),
+        round_to_micro(o.fmax_hz),
         o.per_octave,
         o.offset,
         res.residual_samples

@@ -54,6 +54,9 @@ pub struct EmaOptions {
     pub method: Method,
     /// Highest LSCF polynomial order (number of poles); orders 2, 4, … up to it are fitted.
     pub order_max: usize,
+    /// `order_max` is the default, not the user's: lowered (with a note) to the highest even
+    /// order the band's lines support, instead of refused.
+    pub order_max_is_default: bool,
     pub form: FrfForm,
     pub criteria: Criteria,
     /// Peak method: prominence and count of the resonances kept.
@@ -201,7 +204,16 @@ fn identify_lscf(
     h: Vec<Vec<Complex64>>,
     opts: &EmaOptions,
 ) -> Result<EmaModel, SignalError> {
-    let n = opts.order_max;
+    let mut notes = Vec::new();
+    let mut n = opts.order_max;
+    let band_order = freqs.len().saturating_sub(2) / 2 * 2;
+    if opts.order_max_is_default && band_order >= 2 && band_order < n {
+        notes.push(format!(
+            "the band holds {} lines: model orders up to {band_order} (default {n}; --order-max to choose)",
+            freqs.len()
+        ));
+        n = band_order;
+    }
     if !(2..=ORDER_LIMIT).contains(&n) || !n.is_multiple_of(2) {
         return Err(bad(
             "order-max",
@@ -235,7 +247,6 @@ fn identify_lscf(
     let range = (freqs[0], f_top);
     let diagram = stabilization::diagram(&fits, range, &opts.criteria);
     let chosen = stabilization::select(&diagram, &opts.criteria);
-    let mut notes = Vec::new();
     if chosen.is_empty() {
         notes.push(format!(
             "no pole stable in frequency, damping and vector over {} orders in {:.3}–{:.3} Hz",

@@ -155,5 +155,6 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
         ignored,
         unreadable: Vec::new(),
         notes: file.note(path).into_iter().collect(),
+        warnings: Vec::new(),
     })
 }

@@ -43,6 +43,9 @@ pub struct Table {
     /// shorter vector): name and why. Asking for one by name is an error giving the reason.
     pub unreadable: Vec<(String, String)>,
     pub notes: Vec<String>,
+    /// What the file itself says is wrong with it (a count it announces and does not hold):
+    /// the data read is analysed, and the warning goes with every result.
+    pub warnings: Vec<String>,
 }
 
 /// The unit of a column: a `--units` entry for it, then the unit label the file gives (`g`,
@@ -335,6 +338,7 @@ pub fn table_to_log(path: &Path, t: Table, opts: &IngestOptions) -> Result<Log, 
             metadata: Vec::new(),
             jitter: None,
             notes,
+            warnings: t.warnings,
         },
     };
     Ok(Log { info, data })

@@ -200,6 +200,7 @@ pub fn read_wav(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
         ignored: Vec::new(),
         unreadable: Vec::new(),
         notes,
+        warnings: Vec::new(),
     })
 }
 

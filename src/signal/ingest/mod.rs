@@ -150,6 +150,9 @@ pub struct IngestRecord {
     /// One line per decision that departs from a plain comma CSV, for stderr.
     #[serde(skip)]
     pub notes: Vec<String>,
+    /// What the file says is wrong with it; printed as warnings and kept in the JSON.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// A log held in memory: `data[c]` is channel `c`, already converted to its reported unit.
@@ -719,6 +722,7 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
         metadata,
         jitter: None,
         notes,
+        warnings: Vec::new(),
     };
     Ok(ColumnPlan {
         header,

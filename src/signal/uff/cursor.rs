@@ -26,8 +26,8 @@ impl<'a> Cursor<'a> {
         self.pos >= self.bytes.len()
     }
 
-    /// The next line without its `\n` or `\r\n`, decoded lossily (header text may carry stray
-    /// Latin-1 bytes, as the VibControl `g²/Hz` does).
+    /// The next line without its `\n` or `\r\n`: UTF-8, or else Windows-1252, the code page
+    /// in which Windows exporters write `m/s²` and the VibControl `g²/Hz` (0xB2).
     pub fn next_line(&mut self) -> Option<String> {
         if self.at_end() {
             return None;
@@ -38,7 +38,7 @@ impl<'a> Cursor<'a> {
         let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
         self.pos += (end + 1).min(rest.len());
         self.line += 1;
-        Some(String::from_utf8_lossy(raw).into_owned())
+        Some(crate::signal::ingest::text::decode(raw))
     }
 
     /// The next `n` raw bytes (binary data of a 58b record); line numbering follows the

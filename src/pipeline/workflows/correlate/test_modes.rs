@@ -220,6 +220,7 @@ fn ema_options(c: &CorrelationSpec) -> EmaOptions {
         f_hi: c.fmax_hz.unwrap_or(f64::MAX),
         method: Method::Lscf,
         order_max: ORDER_MAX,
+        order_max_is_default: false,
         form: FrfForm::Accelerance,
         criteria: Criteria {
             min_orders: MIN_STABLE_ORDERS,

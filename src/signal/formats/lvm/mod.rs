@@ -58,6 +58,7 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
     })?;
     let layout = file_layout(path, &lines[..file_end])?;
     let segments = segments::read_segments(path, &lines, file_end + 1, &layout)?;
+    let warnings = segments::short_segments(path, &segments, &layout);
     let count = segments.len();
     let segments::Segment {
         header: segment,
@@ -88,6 +89,7 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
                 String::new()
             }
         )],
+        warnings,
     };
     let fields = ChannelFields {
         samples: per_channel("Samples"),

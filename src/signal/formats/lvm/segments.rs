@@ -230,3 +230,27 @@ fn continues(
         ),
     ))
 }
+
+/// A segment whose header announces more samples per channel (`Samples`, the fastest
+/// channel's) than rows follow it: the file was cut short, as a copy stopped mid-way leaves it.
+/// The rows present are read; the warning says what is missing.
+pub(super) fn short_segments(path: &Path, segments: &[Segment], layout: &Layout) -> Vec<String> {
+    segments
+        .iter()
+        .filter_map(|seg| {
+            let announced = segment_field(&seg.header, "Samples", layout.x)
+                .iter()
+                .filter_map(|s| s.parse::<usize>().ok())
+                .max()?;
+            let at = seg.header.iter().position(|r| r.first().is_some_and(|k| k == "Samples"));
+            (announced > seg.rows.len()).then(|| {
+                format!(
+                    "{}: line {}: the LVM segment header announces {announced} samples per channel, but {} rows follow: the file ends early (cut short?); the rows present are analysed",
+                    path.display(),
+                    seg.line + at.unwrap_or(0),
+                    seg.rows.len()
+                )
+            })
+        })
+        .collect()
+}

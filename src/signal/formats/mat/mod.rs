@@ -134,6 +134,7 @@ fn to_table(path: &Path, vars: Vec<(String, Value)>) -> Table {
         ignored: f.ignored,
         unreadable: f.unreadable,
         notes,
+        warnings: Vec::new(),
     }
 }
 

@@ -130,6 +130,7 @@ pub fn read_tdms(
         ignored: f.ignored,
         unreadable: f.unreadable,
         notes,
+        warnings: Vec::new(),
     })
 }
 
