@@ -155,6 +155,34 @@ fn measured_frfs_of_the_analytic_three_dof_give_its_modes() {
     }
 }
 
+/// A band of 21 lines (35–40 Hz of the 3-DOF's 0.25 Hz lines) cannot carry the default model
+/// order 60 (LSCF needs order + 2 lines): without --order-max the orders are lowered to 18
+/// with a note, and to the orders the lines carry; an --order-max 60 the user gave is refused,
+/// naming the band's line count.
+#[test]
+fn a_narrow_band_lowers_the_default_model_order_not_a_stated_one() {
+    let dir = temp_dir("ema-narrow-band");
+    let p = three_dof_uff(&dir);
+    let path = p.to_str().unwrap();
+    let v = ema_json(&[path, "--fmin", "35", "--fmax", "40"]);
+    let notes = v["notes"].to_string();
+    assert!(
+        notes.contains("the band holds 21 lines: model orders up to 18"),
+        "{notes}"
+    );
+    // Order 12 already leaves LSCF's basis matrix singular on these lines: the default fit
+    // stops at the orders below it, and says so.
+    assert!(
+        notes.contains("model orders up to 10: LSCF order 12"),
+        "{notes}"
+    );
+    let e = ema_error(&[path, "--fmin", "35", "--fmax", "40", "--order-max", "60"]);
+    assert!(
+        e.contains("the band holds 21 lines, fewer than order + 2"),
+        "{e}"
+    );
+}
+
 #[test]
 fn measured_frfs_that_cannot_be_fitted_together_are_refused() {
     let dir = temp_dir("ema-uff-refusals");

@@ -73,18 +73,25 @@ fn toeplitz_sums(theta: &[f64], h: &[Vec<Complex64>], n: usize) -> Sums {
 
 /// Poles and vectors of every even model order 2, 4, …, `order_max`, fitted on the lines at
 /// angles `theta` (θ_k = π f_k / f_top) with FRFs `h[o][k]`; `ts` = 1/(2 f_top) in seconds.
+/// With `stop_early`, an order the lines cannot carry ends the fit at the orders below it
+/// (returned with the reason) instead of failing it.
 pub fn fit_orders(
     theta: &[f64],
     h: &[Vec<Complex64>],
     ts: f64,
     order_max: usize,
-) -> Result<Vec<OrderFit>, SignalError> {
+    stop_early: bool,
+) -> Result<(Vec<OrderFit>, Option<SignalError>), SignalError> {
     let sums = toeplitz_sums(theta, h, order_max);
     let mut out = Vec::new();
     for n in (2..=order_max).step_by(2) {
-        out.push(fit_order(&sums, n, order_max, ts)?);
+        match fit_order(&sums, n, order_max, ts) {
+            Ok(fit) => out.push(fit),
+            Err(e) if stop_early && !out.is_empty() => return Ok((out, Some(e))),
+            Err(e) => return Err(e),
+        }
     }
-    Ok(out)
+    Ok((out, None))
 }
 
 fn fit_order(sums: &Sums, n: usize, nmax: usize, ts: f64) -> Result<OrderFit, SignalError> {

@@ -237,13 +237,17 @@ fn identify_lscf(
         .iter()
         .map(|f| std::f64::consts::PI * f / f_top)
         .collect();
-    let fits = lscf::fit_orders(&theta, &h, ts, n).map_err(|e| {
-        SignalError::Invalid(format!(
-            "LSCF on channel(s) {} over {:.6}–{f_top:.6} Hz: {e}",
-            set.channels.join(", "),
-            freqs[0]
-        ))
-    })?;
+    let (fits, stopped) =
+        lscf::fit_orders(&theta, &h, ts, n, opts.order_max_is_default).map_err(|e| {
+            SignalError::Invalid(format!(
+                "LSCF on channel(s) {} over {:.6}–{f_top:.6} Hz: {e}",
+                set.channels.join(", "),
+                freqs[0]
+            ))
+        })?;
+    if let (Some(e), Some(last)) = (stopped, fits.last()) {
+        notes.push(format!("model orders up to {}: {e}", last.order));
+    }
     let range = (freqs[0], f_top);
     let diagram = stabilization::diagram(&fits, range, &opts.criteria);
     let chosen = stabilization::select(&diagram, &opts.criteria);
