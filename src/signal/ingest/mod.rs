@@ -580,6 +580,19 @@ fn time_unit_of(
     }
 }
 
+/// A column whose units-row cell is a unit of time (`s`, `second`, `[ms]`) holds the times,
+/// whatever its name (an oscilloscope's `x-axis`), when no column is named as time.
+fn time_by_unit(d: &Dialect, ignored: &[usize]) -> Option<usize> {
+    d.units.as_ref()?.iter().enumerate().position(|(i, u)| {
+        let unit = TimeUnit::parse(u.trim_matches(['[', ']', '(', ')'])).ok();
+        !ignored.contains(&i)
+            && matches!(
+                unit,
+                Some(TimeUnit::S | TimeUnit::Ms | TimeUnit::Us | TimeUnit::Ns)
+            )
+    })
+}
+
 /// Serial days since 1899-12-30 of the years 1970–2099, as spreadsheets store date-times.
 const SPREADSHEET_DAYS: std::ops::Range<f64> = 25_569.0..73_051.0;
 
@@ -620,11 +633,18 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
     check_names(file, &header, &ignored, opts.channels.is_some())?;
     // A column of date-times or clock times is time whatever its name (`Zeit`, `Date/Time`).
     let iso = |i: usize| d.first_row.get(i).and_then(|c| clock::parse(c)).is_some();
-    let mut time_col = header
+    let named = header
         .iter()
         .enumerate()
         .position(|(i, h)| !ignored.contains(&i) && (is_time_column(h) || iso(i)));
+    let mut time_col = named.or_else(|| time_by_unit(d, &ignored));
     let mut notes = dialect_notes(file, d, &header);
+    if let (None, Some(tc)) = (named, time_col) {
+        notes.push(format!(
+            "column `{}` is the time: its unit in the units row is a time",
+            header[tc]
+        ));
+    }
     if opts.fs_override
         && let (Some(tc), Some(fs)) = (time_col, opts.fs)
     {

@@ -301,13 +301,25 @@ fn header_above(
         let states_rate = super::preamble_rate::rate_of_line(lines[prev].1, dec).is_some();
         if prev + 1 == last
             && !states_rate
-            && let Some(upper) = fits(prev)
+            && let Some(upper) = fits(prev).or_else(|| numbered_names(lines[prev].1, d, width))
             && looks_like_units(&lower)
         {
             return Some((Some(upper), Some(prev), Some(lower)));
         }
     }
     Some((Some(lower), Some(last), None))
+}
+
+/// A header above a units row whose channels are numbered (an oscilloscope's `x-axis,1,2`
+/// over `second,Volt,Volt`): small whole numbers as names, beside at least one word.
+fn numbered_names(line: &str, d: Delimiter, width: usize) -> Option<Vec<String>> {
+    let f = split_fields(line, d);
+    let numbered = |c: &String| c.len() <= 3 && c.bytes().all(|b| b.is_ascii_digit());
+    let words = f.iter().filter(|c| !c.is_empty() && !numbered(c)).count();
+    let all_named = f
+        .iter()
+        .all(|c| !c.is_empty() && (numbered(c) || c.parse::<f64>().is_err()));
+    (f.len() == width && words >= 1 && words < width && all_named).then_some(f)
 }
 
 /// Units rows hold short unit words: `s`, `g`, `m/s^2`, `[V]`, `(N)`, and the spectral

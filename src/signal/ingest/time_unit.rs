@@ -33,7 +33,7 @@ impl TimeUnit {
 
     fn from_word(s: &str) -> Option<TimeUnit> {
         match s.trim().to_lowercase().as_str() {
-            "s" | "sec" | "secs" | "seconds" => Some(TimeUnit::S),
+            "s" | "sec" | "secs" | "second" | "seconds" => Some(TimeUnit::S),
             "ms" | "msec" | "millis" => Some(TimeUnit::Ms),
             "us" | "µs" | "μs" | "usec" | "micros" => Some(TimeUnit::Us),
             "ns" | "nsec" | "nanos" => Some(TimeUnit::Ns),
