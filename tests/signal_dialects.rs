@@ -689,6 +689,54 @@ fn a_text_trailer_after_the_data_ends_the_log() {
     );
 }
 
+/// A Tektronix oscilloscope's spreadsheet CSV (TDS/TBS layout: 18 setting rows `key,value,unit`
+/// in columns 1–3 beside the samples in columns 4–5, a trailing comma, CRLF, trigger at t = 0
+/// so the times start negative): the channel is named by `Source`, its unit taken from
+/// `Vertical Units`, the rate from the time column: 1000 Hz (analytic, 1e-9) and RMS 2/√2.
+#[test]
+fn a_tektronix_spreadsheet_csv_is_read_by_its_layout() {
+    let settings = [
+        "Record Length,1.000000e+03,Points",
+        "Sample Interval,1.000000e-03,s",
+        "Trigger Point,5.000000e+02,Samples",
+        ",,",
+        ",,",
+        ",,",
+        "Source,CH1,",
+        "Vertical Units,g,",
+        "Vertical Scale,1.000000e+00,",
+        "Vertical Offset,0.000000e+00,",
+        "Horizontal Units,s,",
+        "Horizontal Scale,1.000000e-01,",
+        "Pt Fmt,Y,",
+        "Yzero,0.000000e+00,",
+        "Probe Atten,1.000000e+00,",
+        "Model Number,TBS1052B,",
+        "Serial Number,C000000,",
+        "Firmware Version,FV:v4.00,",
+    ];
+    let mut text = String::new();
+    for i in 0..N {
+        let left = settings.get(i).copied().unwrap_or(",,");
+        let t = (i as f64 - 500.0) / FS;
+        text.push_str(&format!("{left},{t:.12},{:.9},\r\n", sample(i)));
+    }
+    let p = write("tek0000.csv", &text);
+    let log = satqual::signal::formats::read_log(&p, &IngestOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        (log.info.fs_hz - FS).abs() < FS * 1e-9,
+        "{}",
+        log.info.fs_hz
+    );
+    assert_eq!(log.info.channels[0].name, "CH1");
+    assert_eq!(log.info.channels[0].unit, satqual::signal::ingest::Unit::G);
+    let want = 2.0 / 2f64.sqrt();
+    let x = &log.data[0];
+    assert_eq!(x.len(), N);
+    assert!((rms(x) - want).abs() < want * 1e-6, "rms {}", rms(x));
+}
+
 /// A PicoQuake-style IMU export (its documented layout: `# Config: data_rate = 2000.0 Hz,
 /// filter = 488 Hz, ...`, a `count` column, accelerations and gyro rates at rest), 10 000
 /// samples of a 100 Hz sine of amplitude 1: the rate comes from the clause that names it (not

@@ -94,7 +94,11 @@ pub fn psd_of_file(
     opts.validate()?;
     match detect(path) {
         LogFormat::Uff => return psd_of_uff(path, ingest, opts),
-        LogFormat::Lvm | LogFormat::Mat | LogFormat::Tdms | LogFormat::Wav => {
+        LogFormat::Lvm
+        | LogFormat::Mat
+        | LogFormat::Tdms
+        | LogFormat::Wav
+        | LogFormat::Tektronix => {
             return psd_of_log(read_log(path, ingest)?, opts);
         }
         LogFormat::Csv => {

@@ -9,6 +9,7 @@ use super::ingest::freq_table::{data_rows, is_frequency_column, sniff_head};
 use super::ingest::sniff::Dialect;
 use super::ingest::{IngestOptions, Unit, time_column_unit};
 use super::welch::Psd;
+use super::welch::round_to_micro;
 use crate::error::SignalError;
 use std::path::Path;
 
@@ -187,10 +188,13 @@ fn uniform_lines(
                 path,
                 rows[k].0,
                 format!(
-                    "{} Hz where evenly spaced lines ({df} Hz apart from {} Hz) put {expected} Hz: \
-                     the PSD's lines must be evenly spaced and increasing",
+                    "{} Hz where evenly spaced lines ({} Hz apart from {} Hz) put {} Hz: \
+                     the PSD's lines must be evenly spaced and increasing (breakpoints at \
+                     uneven frequencies are a profile: pass them with --profile)",
                     f(k),
-                    f(0)
+                    round_to_micro(df),
+                    f(0),
+                    round_to_micro(expected)
                 ),
             ));
         }

@@ -5,6 +5,7 @@
 
 pub mod lvm;
 pub mod mat;
+pub mod scope;
 pub mod table;
 pub mod tdms;
 pub mod wav;
@@ -31,6 +32,8 @@ pub enum LogFormat {
     Tdms,
     /// WAV (RIFF WAVE) file.
     Wav,
+    /// Tektronix oscilloscope spreadsheet CSV.
+    Tektronix,
 }
 
 /// Tells the format from the first bytes of the file (a file that cannot be opened is taken as
@@ -49,6 +52,8 @@ pub fn detect(path: &Path) -> LogFormat {
         LogFormat::Wav
     } else if lvm::looks_like_lvm(head) {
         LogFormat::Lvm
+    } else if scope::looks_like_tektronix(head) {
+        LogFormat::Tektronix
     } else if looks_like_uff(path) {
         LogFormat::Uff
     } else {
@@ -70,6 +75,9 @@ pub fn read_log(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
         LogFormat::Lvm => table_to_log(path, lvm::read_lvm(path, &read_bytes(path)?)?, opts),
         LogFormat::Mat => table_to_log(path, mat::read_mat(path, &read_bytes(path)?)?, opts),
         LogFormat::Wav => table_to_log(path, wav::read_wav(path, &read_bytes(path)?)?, opts),
+        LogFormat::Tektronix => {
+            table_to_log(path, scope::read_tektronix(path, &read_bytes(path)?)?, opts)
+        }
         LogFormat::Tdms => {
             let wanted = opts.channels.as_deref();
             table_to_log(
