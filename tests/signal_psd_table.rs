@@ -35,7 +35,7 @@ fn a_controller_table_reads_as_its_uff58_record() {
 
 #[test]
 fn dialects_units_and_a_start_above_zero() {
-    // Semicolons and decimal commas, a units row, 0.5 Hz lines printed to one decimal from
+    // Semicolons and decimal commas, a units row (each noted on stderr), 0.5 Hz lines printed to one decimal from
     // 20 Hz, a flat 0.04 g²/Hz and the same level in (m/s²)²/Hz, to 2000 Hz.
     let mut text = String::from(
         "# exported by a controller\nFrequency;Control;Reference\nHz;g^2/Hz;(m/s^2)^2/Hz\n",
@@ -58,6 +58,14 @@ fn dialects_units_and_a_start_above_zero() {
         let grms = c["grms"].as_f64().unwrap();
         assert!((grms - want).abs() < 1e-9 * want, "{}: {grms}", c["name"]);
         assert_eq!(c["unit"], "g");
+    }
+    // The reader says how it read the table, as for a time log.
+    for note in [
+        "separated by semicolon",
+        "decimal comma",
+        "line 3: units row read",
+    ] {
+        assert!(err.contains(note), "`{note}` not in {err}");
     }
 }
 

@@ -117,6 +117,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     };
     let wopts = req.welch;
     print_ingest_notes(run.psd.info.as_ref());
+    print_notes(&run.psd.notes);
     let warnings = resolution_warnings(&run, &wopts, profile_band);
     for w in &warnings {
         eprintln!("warning: {w}");

@@ -58,6 +58,8 @@ pub struct LogPsd {
     pub fs_hz: f64,
     pub info: Option<LogInfo>,
     pub channels: Vec<ChannelPsd>,
+    /// The reader's decisions when no [`LogInfo`] carries them (a PSD table's dialect).
+    pub notes: Vec<String>,
 }
 
 /// The most spectral lines a PSD read from a UFF58 file may span from 0 Hz (16.7 million, 128
@@ -102,8 +104,11 @@ pub fn psd_of_file(
             return psd_of_log(read_log(path, ingest)?, opts);
         }
         LogFormat::Csv => {
-            if let Some(table) = read_psd_table(path, ingest)? {
-                return psd_of_table(path, table);
+            if let Some((table, notes)) = read_psd_table(path, ingest)? {
+                return Ok(LogPsd {
+                    notes,
+                    ..psd_of_table(path, table)?
+                });
             }
         }
     }
@@ -166,6 +171,7 @@ pub fn psd_of_file(
         fs_hz: info.fs_hz,
         info: Some(info),
         channels,
+        notes: Vec::new(),
     })
 }
 
@@ -193,6 +199,7 @@ fn psd_of_table(path: &Path, table: Vec<TableChannel>) -> Result<LogPsd, SignalE
         fs_hz: channels.first().map_or(0.0, |c| c.psd.fs),
         info: None,
         channels,
+        notes: Vec::new(),
     })
 }
 
@@ -234,6 +241,7 @@ fn psd_of_log(log: Log, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
         fs_hz: fs,
         info: Some(log.info),
         channels,
+        notes: Vec::new(),
     })
 }
 
@@ -362,5 +370,6 @@ fn psd_of_uff(
         fs_hz,
         info: None,
         channels,
+        notes: Vec::new(),
     })
 }

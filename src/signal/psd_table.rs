@@ -219,7 +219,7 @@ fn uniform_lines(
 pub fn read_psd_table(
     path: &Path,
     opts: &IngestOptions,
-) -> Result<Option<Vec<TableChannel>>, SignalError> {
+) -> Result<Option<(Vec<TableChannel>, Vec<String>)>, SignalError> {
     let Some(d) = sniff_head(path) else {
         return Ok(None);
     };
@@ -254,6 +254,12 @@ pub fn read_psd_table(
             message: format!("cannot read: {e}"),
         })?;
     let rows = data_rows(path, &bytes, &d, "PSD table")?;
+    let notes: Vec<String> = crate::signal::ingest::text::open(path)
+        .ok()
+        .and_then(|(_, form)| form.note(path))
+        .into_iter()
+        .chain(crate::signal::ingest::dialect_notes(path, &d, header))
+        .collect();
     let (df, offset) = uniform_lines(path, &rows, printed_decimals(&bytes, &d))?;
     let lines = offset + rows.len();
     if lines > opts.max_psd_lines {
@@ -288,7 +294,7 @@ pub fn read_psd_table(
             psd: Psd::from_lines(df, values),
         });
     }
-    Ok(Some(out))
+    Ok(Some((out, notes)))
 }
 
 #[cfg(test)]

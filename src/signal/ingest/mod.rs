@@ -763,8 +763,8 @@ fn column_label(header: &[String], i: usize) -> String {
     }
 }
 
-/// One stderr line per dialect decision that departs from a plain comma CSV.
-fn dialect_notes(file: &Path, d: &Dialect, header: &[String]) -> Vec<String> {
+/// One note per way the dialect departs from a plain comma CSV with a header.
+pub fn dialect_notes(file: &Path, d: &Dialect, header: &[String]) -> Vec<String> {
     let f = file.display();
     let mut notes = Vec::new();
     if d.delimiter != Delimiter::Comma {
