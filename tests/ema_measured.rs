@@ -296,6 +296,14 @@ fn an_frf_table_round_trips_through_ema() {
         p["modes"].as_array().unwrap(),
     );
     assert_eq!(a.len(), b.len());
+    // The semicolon table's dialect is in the notes, as a log's would be.
+    assert!(
+        p["notes"]
+            .to_string()
+            .contains("fields separated by semicolon"),
+        "{}",
+        p["notes"]
+    );
     for (x, y) in a.iter().zip(b) {
         let f = |m: &Value, k: &str| m[k].as_f64().unwrap();
         assert!(

@@ -219,10 +219,7 @@ pub type PsdTable = (Vec<TableChannel>, Vec<String>);
 /// The PSDs of `path` when it is a text table over frequency (no time column); `None` when
 /// it is a time log. A table of FRFs, or one whose columns state no spectral-density unit
 /// (and no `--units`), is an error at its header line.
-pub fn read_psd_table(
-    path: &Path,
-    opts: &IngestOptions,
-) -> Result<Option<PsdTable>, SignalError> {
+pub fn read_psd_table(path: &Path, opts: &IngestOptions) -> Result<Option<PsdTable>, SignalError> {
     let Some(d) = sniff_head(path) else {
         return Ok(None);
     };

@@ -21,6 +21,8 @@ pub struct FrfTable {
     pub freqs: Vec<f64>,
     pub frfs: Vec<TableFrf>,
     pub header_line: u64,
+    /// How the file's dialect was read (encoding, delimiter, decimal comma, preamble).
+    pub notes: Vec<String>,
 }
 
 /// How a column carries its part of an FRF.
@@ -140,10 +142,19 @@ pub fn read_frf_table(path: &Path) -> Result<Option<FrfTable>, SignalError> {
             h: rows.iter().map(|(_, r)| value(r[a], r[b], kind)).collect(),
         })
         .collect();
+    let notes = crate::signal::ingest::text::open(path)
+        .ok()
+        .and_then(|(_, form)| form.note(path))
+        .into_iter()
+        .chain(crate::signal::ingest::dialect_notes(
+            path, &dialect, &header,
+        ))
+        .collect();
     Ok(Some(FrfTable {
         freqs,
         frfs,
         header_line: dialect.header_line,
+        notes,
     }))
 }
 

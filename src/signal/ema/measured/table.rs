@@ -29,6 +29,7 @@ pub(super) fn table_frfs(
     let Some(tables) = read_tables(paths)? else {
         return Ok(None);
     };
+    let mut notes: Vec<String> = tables.iter().flat_map(|(_, t)| t.notes.clone()).collect();
     let (freqs, named) = join_tables(tables)?;
     let chosen = select(named, outputs, &paths[0])?;
     let records = chosen
@@ -45,6 +46,7 @@ pub(super) fn table_frfs(
         chosen.len(),
         paths.len()
     );
+    notes.push(note);
     let (channels, h) = chosen.into_iter().map(|(n, c)| (n, c.h)).unzip();
     Ok(Some(MeasuredFrfs {
         set: FrfSet { freqs, channels, h },
@@ -54,7 +56,7 @@ pub(super) fn table_frfs(
         common_point: input.unwrap_or("the table's reference").to_string(),
         unit: "as stored".into(),
         records,
-        notes: vec![note],
+        notes,
     }))
 }
 
