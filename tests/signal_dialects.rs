@@ -628,7 +628,7 @@ fn locale_date_times_and_clock_times_are_time_columns() {
 /// A logger's time of day that runs past midnight (`23:59:59.500` … `00:00:00.499`, one row per
 /// millisecond): the rows after midnight are counted on into the next day, with a note, so the
 /// rate is 1000 Hz (analytic, 1e-9) and the sine is read whole. A step back of less than half
-/// a day is still refused as a non-increasing time, at its line.
+/// a day is still refused as a non-increasing time, at its line. The log ends with a trailer line.
 #[test]
 fn a_time_of_day_running_past_midnight_counts_on() {
     let stamp = |ms: usize| {
@@ -641,9 +641,13 @@ fn a_time_of_day_running_past_midnight_counts_on() {
     for i in 0..N {
         text.push_str(&format!("{},{:.9}\n", stamp(start + i), sample(i)));
     }
+    text.push_str("End of data\n");
     let p = write("midnight.csv", &text);
     let log = check(&p, &IngestOptions::default(), "A [g]");
     assert_note(&log, "line 502: the time of day passes midnight");
+    // The trailer at the end of so short a file is inside the head the dialect is told from,
+    // and must not hide the clock column from it.
+    assert_note(&log, "line 1002: the data ends; 1 trailing line(s)");
     // Two rows swapped one second apart are not a midnight.
     let mut back = String::from("Time,A [g]\n");
     for i in 0..N {

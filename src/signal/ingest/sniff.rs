@@ -110,6 +110,29 @@ pub fn number(cell: &str, decimal_comma: bool) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
+/// Lines without a number at the end of a file (`End of data`) are a trailer, not the data's
+/// layout: the delimiter and width are told from the lines above them (the row reader skips
+/// the trailer with a note).
+fn drop_trailer(content: &mut Vec<usize>, lines: &[(usize, &str)]) {
+    let holds_number = |line: &str| {
+        line.split([',', ';', '\t', ' '])
+            .map(|c| c.trim().trim_matches('"'))
+            .any(|c| {
+                number(c, false).is_some()
+                    || number(c, true).is_some()
+                    || super::clock::parse(c).is_some()
+            })
+    };
+    let trailer = content
+        .iter()
+        .rev()
+        .take_while(|&&i| !holds_number(lines[i].1))
+        .count();
+    if trailer <= super::trailer::MAX_TRAILER_LINES && trailer < content.len() {
+        content.truncate(content.len() - trailer);
+    }
+}
+
 /// Whether every non-empty field is a number, and at least one is.
 fn numeric_row(fields: &[String], decimal_comma: bool) -> bool {
     let mut any = false;
@@ -196,9 +219,12 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
     if std::str::from_utf8(&head[bom..]).is_err() && text.len() != head.len() - bom {
         return None;
     }
-    let content: Vec<usize> = (0..lines.len())
+    let mut content: Vec<usize> = (0..lines.len())
         .filter(|&i| !lines[i].1.trim().is_empty() && !is_comment(lines[i].1))
         .collect();
+    if eof {
+        drop_trailer(&mut content, &lines);
+    }
     let tail: Vec<&str> = content
         .iter()
         .rev()

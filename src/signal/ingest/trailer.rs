@@ -7,7 +7,7 @@
 use std::io::Read;
 
 /// At most this many non-blank lines make a trailer; more text is not one.
-const MAX_TRAILER_LINES: usize = 20;
+pub const MAX_TRAILER_LINES: usize = 20;
 /// At most this much of the file is read past the first unreadable row to decide.
 const MAX_TRAILER_BYTES: usize = 64 * 1024;
 
