@@ -13,6 +13,9 @@ pub enum Unit {
     /// Thousandths of g, as low-level accelerometer logs state it.
     #[serde(rename = "mg")]
     MilliG,
+    /// Millionths of g, as seismic and microgravity accelerometers state it.
+    #[serde(rename = "ug")]
+    MicroG,
     #[serde(rename = "mm/s2")]
     MmPerS2,
     /// Inches and feet per second squared, as US laboratories log accelerations.
@@ -26,10 +29,11 @@ pub enum Unit {
 }
 
 /// Spellings of each acceleration unit after [`normalise_unit`].
-const UNIT_SPELLINGS: [(Unit, &[&str]); 7] = [
-    (Unit::G, &["g", "gn"]),
+const UNIT_SPELLINGS: [(Unit, &[&str]); 8] = [
+    (Unit::G, &["g", "gn", "g0", "g's"]),
     (Unit::MPerS2, &["m/s2", "ms-2", "ms2", "m_s2", "mps2"]),
     (Unit::MilliG, &["mg"]),
+    (Unit::MicroG, &["ug", "µg", "μg"]),
     (Unit::MmPerS2, &["mm/s2", "mms-2"]),
     (Unit::InPerS2, &["in/s2", "ins-2"]),
     (Unit::FtPerS2, &["ft/s2", "fts-2"]),
@@ -65,7 +69,7 @@ impl Unit {
             .ok_or_else(|| SignalError::BadParameter {
                 name: "units",
                 value: s.to_string(),
-                reason: "expected g, mg, m/s2, mm/s2, in/s2, ft/s2 or as-is".into(),
+                reason: "expected g, mg, ug (µg), m/s2, mm/s2, in/s2, ft/s2 or as-is".into(),
             })
     }
 
@@ -97,6 +101,7 @@ impl Unit {
             Unit::G => "g",
             Unit::MPerS2 => "m/s2",
             Unit::MilliG => "mg",
+            Unit::MicroG => "ug",
             Unit::MmPerS2 => "mm/s2",
             Unit::InPerS2 => "in/s2",
             Unit::FtPerS2 => "ft/s2",
@@ -111,6 +116,7 @@ impl Unit {
         match self {
             Unit::MPerS2 => 1.0 / g,
             Unit::MilliG => 1e-3,
+            Unit::MicroG => 1e-6,
             Unit::MmPerS2 => 1e-3 / g,
             Unit::InPerS2 => 0.0254 / g,
             Unit::FtPerS2 => 0.3048 / g,
@@ -137,6 +143,10 @@ mod tests {
         let cases = [
             ("g", Unit::G),
             ("gn", Unit::G),
+            ("G's", Unit::G),
+            ("µg", Unit::MicroG),
+            ("μg", Unit::MicroG),
+            ("ug", Unit::MicroG),
             ("m/s^2", Unit::MPerS2),
             ("m/s²", Unit::MPerS2),
             ("m s^-2", Unit::MPerS2),
