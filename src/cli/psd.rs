@@ -22,7 +22,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Log file: CSV or text with a header (and a time column or --fs), UFF58/58b (time histories or PSDs), LabVIEW .lvm, MATLAB .mat (v5), TDMS, WAV or Tektronix CSV.
+    /// Log file: CSV or text with a header (and a time column or --fs), UFF58/58b (time histories or PSDs), LabVIEW .lvm, MATLAB .mat (v5), TDMS, WAV, Tektronix or Rigol CSV.
     pub log: PathBuf,
     /// Channels to process, comma-separated (default: every non-time column).
     #[arg(long, value_delimiter = ',')]

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Shock record: CSV or text with a header (and a time column or --fs), UFF58/58b time histories, LabVIEW .lvm, MATLAB .mat (v5), TDMS, WAV or Tektronix CSV.
+    /// Shock record: CSV or text with a header (and a time column or --fs), UFF58/58b time histories, LabVIEW .lvm, MATLAB .mat (v5), TDMS, WAV, Tektronix or Rigol CSV.
     pub log: PathBuf,
     /// Channels to process, comma-separated (default: every non-time column).
     #[arg(long, value_delimiter = ',')]

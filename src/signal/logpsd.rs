@@ -100,7 +100,8 @@ pub fn psd_of_file(
         | LogFormat::Mat
         | LogFormat::Tdms
         | LogFormat::Wav
-        | LogFormat::Tektronix => {
+        | LogFormat::Tektronix
+        | LogFormat::Rigol => {
             return psd_of_log(read_log(path, ingest)?, opts);
         }
         LogFormat::Csv => {

@@ -34,6 +34,8 @@ pub enum LogFormat {
     Wav,
     /// Tektronix oscilloscope spreadsheet CSV.
     Tektronix,
+    /// Rigol oscilloscope CSV.
+    Rigol,
 }
 
 /// Tells the format from the first bytes of the file (a file that cannot be opened is taken as
@@ -54,6 +56,8 @@ pub fn detect(path: &Path) -> LogFormat {
         LogFormat::Lvm
     } else if scope::looks_like_tektronix(head) {
         LogFormat::Tektronix
+    } else if scope::looks_like_rigol(head) {
+        LogFormat::Rigol
     } else if looks_like_uff(path) {
         LogFormat::Uff
     } else {
@@ -78,6 +82,7 @@ pub fn read_log(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
         LogFormat::Tektronix => {
             table_to_log(path, scope::read_tektronix(path, &read_bytes(path)?)?, opts)
         }
+        LogFormat::Rigol => table_to_log(path, scope::read_rigol(path, &read_bytes(path)?)?, opts),
         LogFormat::Tdms => {
             let wanted = opts.channels.as_deref();
             table_to_log(

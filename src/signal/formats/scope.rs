@@ -1,11 +1,15 @@
-//! Tektronix oscilloscope CSV (the TDS/TBS "spreadsheet" export, one channel per file): the
-//! settings as `key,value,unit` in the first three columns of the first rows, beside the
-//! samples as time and value in columns four and five. There is no header line, so the
-//! general text reader cannot tell names from data; this reader takes the channel name from
-//! `Source`, its unit from `Vertical Units` and the rate from the time column, which
-//! `Sample Interval` must agree with.
+//! Oscilloscope CSV exports whose layout the general text reader cannot tell from data:
 //!
-//! Hand-written: a dozen lines of fixed layout, no crate reads it.
+//! - Tektronix (the TDS/TBS "spreadsheet" export, one channel per file): the settings as
+//!   `key,value,unit` in the first three columns of the first rows, beside the samples as time
+//!   and value in columns four and five, no header line. The channel is named by `Source`, its
+//!   unit is `Vertical Units`, the rate comes from the time column, which `Sample Interval`
+//!   must agree with.
+//! - Rigol (DS1000Z and kin): a header `X,CH1,...,Start,Increment`, a second line `Sequence`,
+//!   the channels' units, the start time and the sample interval, then rows of a sample number
+//!   and the channels' values. The rate is 1 / `Increment`.
+//!
+//! Hand-written: a few lines of fixed layout each, no crate reads them.
 
 use super::table::{Rate, Series, Table};
 use crate::error::SignalError;
@@ -106,6 +110,91 @@ pub fn read_tektronix(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
     })
 }
 
+/// Whether the bytes start like a Rigol oscilloscope CSV.
+pub fn looks_like_rigol(head: &[u8]) -> bool {
+    let head = head.strip_prefix(b"\xef\xbb\xbf").unwrap_or(head);
+    let first = head.split(|&b| b == b'\n').next().unwrap_or(&[]);
+    let first = String::from_utf8_lossy(first);
+    let cells: Vec<&str> = first.trim_end().split(',').map(str::trim).collect();
+    cells.first() == Some(&"X") && cells.windows(2).any(|w| w == ["Start", "Increment"])
+}
+
+/// Reads the channels of a Rigol oscilloscope CSV.
+pub fn read_rigol(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
+    let text = crate::signal::ingest::text::decode(bytes);
+    let mut lines = text.lines().map(|l| l.trim_end_matches('\r'));
+    let cells = |l: &str| -> Vec<String> { l.split(',').map(|c| c.trim().to_string()).collect() };
+    let header = cells(lines.next().unwrap_or(""));
+    let second = cells(lines.next().unwrap_or(""));
+    let start = header
+        .iter()
+        .position(|h| h == "Start")
+        .unwrap_or(header.len());
+    let names: Vec<String> = header[1..start].to_vec();
+    let increment = second
+        .get(start + 1)
+        .and_then(|c| number(c, false))
+        .filter(|&dt| dt > 0.0)
+        .ok_or_else(|| {
+            err_rigol(
+                path,
+                2,
+                "no positive `Increment` (the sample interval) under the header",
+            )
+        })?;
+    let mut values: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+    for (i, line) in lines.enumerate() {
+        let row = cells(line);
+        if row.iter().all(String::is_empty) {
+            continue;
+        }
+        for (k, column) in values.iter_mut().enumerate() {
+            let cell = row.get(k + 1).map_or("", String::as_str);
+            let v = number(cell, false).ok_or_else(|| {
+                err_rigol(
+                    path,
+                    i + 3,
+                    format!("`{}`: `{cell}` is not a number", names[k]),
+                )
+            })?;
+            column.push(v);
+        }
+    }
+    let series = names
+        .iter()
+        .zip(values)
+        .enumerate()
+        .map(|(k, (name, values))| Series {
+            name: name.clone(),
+            unit_label: second.get(k + 1).cloned().unwrap_or_default(),
+            values,
+        })
+        .collect();
+    Ok(Table {
+        format: "rigol",
+        delimiter: "comma",
+        decimal: ".",
+        series,
+        rate: Rate::Stated(1.0 / increment, "the `Increment` of line 2".into()),
+        ignored: vec!["`X` (sample numbers)".into()],
+        unreadable: Vec::new(),
+        notes: vec![format!(
+            "{}: Rigol oscilloscope CSV: {} channel(s), sample interval {increment:e} s from line 2",
+            path.display(),
+            names.len()
+        )],
+        warnings: Vec::new(),
+    })
+}
+
+fn err_rigol(path: &Path, line: usize, message: impl Into<String>) -> SignalError {
+    SignalError::AtLine {
+        file: path.to_path_buf(),
+        line: line as u64,
+        message: format!("Rigol CSV: {}", message.into()),
+    }
+}
+
 /// The stated `Sample Interval` and the time column's mean step agree within 0.1%, or the
 /// file contradicts itself.
 fn check_interval(path: &Path, stated: Option<&str>, times: &[f64]) -> Result<(), SignalError> {
@@ -142,6 +231,28 @@ mod tests {
         assert_eq!(t.series[0].values, [0.5, -0.5, 0.25, 0.0]);
         assert!(matches!(&t.rate, Rate::Times(x, _) if x.len() == 4));
         assert!(t.warnings.is_empty());
+    }
+
+    #[test]
+    fn a_rigol_export_gives_its_channels_units_and_rate() {
+        let text = "X,CH1,CH2,Start,Increment,\r\nSequence,Volt,Volt,-6.000000e-03,2.000000e-06\r\n\
+                    0,1.20e-02,3.0e-01,\r\n1,1.60e-02,2.0e-01,\r\n";
+        assert!(looks_like_rigol(text.as_bytes()));
+        assert!(!looks_like_rigol(b"X,Y\n1,2\n"));
+        let t = read_rigol(Path::new("r.csv"), text.as_bytes()).unwrap();
+        let names: Vec<&str> = t.series.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["CH1", "CH2"]);
+        assert_eq!(t.series[1].values, [0.3, 0.2]);
+        assert_eq!(t.series[0].unit_label, "Volt");
+        // 1 / 2 µs, the stated interval.
+        assert!(matches!(t.rate, Rate::Stated(fs, _) if (fs - 5e5).abs() < 1e-6));
+        let bad = text.replace("1.60e-02", "overflow");
+        let e = read_rigol(Path::new("r.csv"), bad.as_bytes()).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("line 4: Rigol CSV: `CH1`: `overflow`"),
+            "{e}"
+        );
     }
 
     #[test]
