@@ -741,6 +741,23 @@ fn a_tektronix_spreadsheet_csv_is_read_by_its_layout() {
     assert!((rms(x) - want).abs() < want * 1e-6, "rms {}", rms(x));
 }
 
+/// A newer Tektronix scope's CSV (MSO 4/5/6 layout): `key,value` settings, empty `,` lines and
+/// a `Label,` line above the `TIME,CH1` header. `TIME,CH1` is not taken for a units row under
+/// `Label,`, `Vertical Units,g` states the unit, and the rate and RMS are the analytic ones
+/// (`check`).
+#[test]
+fn a_scope_csv_with_a_settings_preamble_and_a_label_line() {
+    let mut text = String::from(
+        "Model,MSO54\nFirmware Version,1.24.4.1178\nWaveform Type,ANALOG\nPoint Format,Y\n\
+         Horizontal Units,s\nSample Interval,0.001\nRecord Length,1000\n\
+         Gating,0.0% to 100.0%\nVertical Units,g\nVertical Scale,0.1\n,\n,\n,\nLabel,\nTIME,CH1\n",
+    );
+    text.push_str(&rows(",", 1.0, -0.5, false));
+    let p = write("mso.csv", &text);
+    let log = check(&p, &IngestOptions::default(), "CH1");
+    assert_eq!(log.info.channels[0].unit, Unit::G);
+}
+
 /// A PicoQuake-style IMU export (its documented layout: `# Config: data_rate = 2000.0 Hz,
 /// filter = 488 Hz, ...`, a `count` column, accelerations and gyro rates at rest), 10 000
 /// samples of a 100 Hz sine of amplitude 1: the rate comes from the clause that names it (not

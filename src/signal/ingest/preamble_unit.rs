@@ -5,13 +5,15 @@
 use super::unit::Unit;
 
 /// Keys that name the unit of the logged values.
-const UNIT_KEYS: [&str; 6] = [
+const UNIT_KEYS: [&str; 7] = [
     "unit",
     "units",
     "eu",
     "engineering unit",
     "engineering units",
     "y unit",
+    // Tektronix oscilloscopes' CSV preamble.
+    "vertical units",
 ];
 
 /// The unit a preamble line states for every channel: one of the keys above followed by one
@@ -46,6 +48,7 @@ mod tests {
             Some(Unit::MilliG)
         );
         assert_eq!(unit_of_line("\"EU\",\"g\",\"g\""), Some(Unit::G));
+        assert_eq!(unit_of_line("Vertical Units,g"), Some(Unit::G));
         // Different units per channel, an unknown unit, another key, no value: none.
         assert_eq!(unit_of_line("Units: g, V"), None);
         assert_eq!(unit_of_line("Units: V"), None);

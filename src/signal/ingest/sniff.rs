@@ -349,12 +349,32 @@ fn numbered_names(line: &str, d: Delimiter, width: usize) -> Option<Vec<String>>
 }
 
 /// Units rows hold short unit words: `s`, `g`, `m/s^2`, `[V]`, `(N)`, and the spectral
-/// densities of a PSD table (`(m/s^2)^2/Hz`, 12 bytes).
+/// densities of a PSD table (`(m/s^2)^2/Hz`, 12 bytes); at least one of them must be a unit
+/// (so that a scope's `TIME,CH1` under a `Label,` line stays the header).
 fn looks_like_units(fields: &[String]) -> bool {
-    fields.iter().all(|f| {
+    let short_words = fields.iter().all(|f| {
         let t = f.trim_matches(|c| matches!(c, '[' | ']' | '(' | ')'));
         t.len() <= 14 && !t.contains(' ') && t.parse::<f64>().is_err()
-    })
+    });
+    short_words && fields.iter().any(|f| is_unit_word(f))
+}
+
+/// Units besides the accelerations and times the readers convert, as exports label columns.
+const OTHER_UNITS: [&str; 32] = [
+    "v", "mv", "uv", "µv", "volt", "volts", "n", "kn", "lbf", "lb", "pa", "kpa", "mpa", "psi",
+    "bar", "mbar", "c", "°c", "degc", "k", "hz", "khz", "rpm", "db", "%", "m", "mm", "um", "µm",
+    "in", "rad", "deg",
+];
+
+/// A unit: bracketed, a ratio (`g^2/Hz`), an acceleration or time unit, or another known one.
+fn is_unit_word(f: &str) -> bool {
+    let t = f.trim();
+    let bracketed = t.starts_with(['[', '(']) && t.ends_with([']', ')']);
+    bracketed
+        || (t.contains('/') && t.len() > 2)
+        || super::Unit::parse(t).is_ok_and(|u| u != super::Unit::AsIs)
+        || super::TimeUnit::parse(t).is_ok()
+        || OTHER_UNITS.contains(&t.to_lowercase().as_str())
 }
 
 /// Names of a column that numbers the samples, once lower-cased and trimmed of `.`, `_`, `:`.
