@@ -41,6 +41,13 @@ fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
 }
 
+/// The reader's error for a log it must refuse, as text.
+fn read_error(p: &std::path::Path) -> String {
+    read_csv(p, &IngestOptions::default())
+        .unwrap_err()
+        .to_string()
+}
+
 /// Asserts that one of the reader's notes contains `needle`.
 fn assert_note(log: &satqual::signal::Log, needle: &str) {
     let notes = &log.info.ingest.notes;
@@ -79,9 +86,7 @@ fn semicolon_with_decimal_comma() {
 #[test]
 fn tab_separated_headerless_needs_columns() {
     let p = write("tab.txt", &rows("\t", 1.0, 0.0, false));
-    let err = read_csv(&p, &IngestOptions::default())
-        .unwrap_err()
-        .to_string();
+    let err = read_error(&p);
     assert!(
         err.contains("tab.txt") && err.contains("line 1") && err.contains("--columns"),
         "{err}"
@@ -192,9 +197,7 @@ fn time_in_milliseconds_and_epoch_nanoseconds() {
         "epoch_odd.csv",
         "timestamp,acc_g\n170000000000000000,0\n170000000001000000,1\n",
     );
-    let err = read_csv(&p, &IngestOptions::default())
-        .unwrap_err()
-        .to_string();
+    let err = read_error(&p);
     assert!(
         err.contains("line 2") && err.contains("--time-unit"),
         "{err}"
@@ -414,17 +417,13 @@ fn a_bad_first_row_is_reported_not_taken_for_a_header_or_units_row() {
         "bad-row.csv",
         &format!("time,acc_g\n0,x\n{}", rows(",", 1.0, 0.001, false)),
     );
-    let err = read_csv(&p, &IngestOptions::default())
-        .unwrap_err()
-        .to_string();
+    let err = read_error(&p);
     assert!(err.contains("line 2") && err.contains("`x`"), "{err}");
     let p = write(
         "nan-row.csv",
         &format!("time,acc_g\nNaN,x\n{}", rows(",", 1.0, 0.001, false)),
     );
-    let err = read_csv(&p, &IngestOptions::default())
-        .unwrap_err()
-        .to_string();
+    let err = read_error(&p);
     assert!(err.contains("line 2"), "{err}");
 }
 
@@ -655,9 +654,7 @@ fn a_time_of_day_running_past_midnight_counts_on() {
         back.push_str(&format!("{},{:.9}\n", stamp(ms), sample(i)));
     }
     let p = write("clock-back.csv", &back);
-    let e = read_csv(&p, &IngestOptions::default())
-        .unwrap_err()
-        .to_string();
+    let e = read_error(&p);
     assert!(
         e.contains("line 13: time") && e.contains("does not increase"),
         "{e}"
@@ -684,9 +681,7 @@ fn a_text_trailer_after_the_data_ends_the_log() {
         rows(";", 1.0, 2.0, true)
     );
     let p = write("text-inside.csv", &inside);
-    let e = read_csv(&p, &IngestOptions::default())
-        .unwrap_err()
-        .to_string();
+    let e = read_error(&p);
     assert!(
         e.contains(&format!("line {line}: expected 2 fields")),
         "{e}"

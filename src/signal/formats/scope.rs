@@ -27,11 +27,7 @@ pub fn looks_like_tektronix(head: &[u8]) -> bool {
 }
 
 fn err(path: &Path, line: usize, message: impl Into<String>) -> SignalError {
-    SignalError::AtLine {
-        file: path.to_path_buf(),
-        line: line as u64,
-        message: format!("Tektronix CSV: {}", message.into()),
-    }
+    super::table::at_line(path, line, "Tektronix CSV", message)
 }
 
 /// Reads the one channel of a Tektronix spreadsheet CSV.
@@ -188,11 +184,7 @@ pub fn read_rigol(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
 }
 
 fn err_rigol(path: &Path, line: usize, message: impl Into<String>) -> SignalError {
-    SignalError::AtLine {
-        file: path.to_path_buf(),
-        line: line as u64,
-        message: format!("Rigol CSV: {}", message.into()),
-    }
+    super::table::at_line(path, line, "Rigol CSV", message)
 }
 
 /// The stated `Sample Interval` and the time column's mean step agree within 0.1%, or the

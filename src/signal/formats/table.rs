@@ -9,6 +9,15 @@ use crate::signal::ingest::{
 };
 use std::path::Path;
 
+/// An error at a line of a text format, prefixed by the format's name (`LVM: …`).
+pub fn at_line(path: &Path, line: usize, format: &str, message: impl Into<String>) -> SignalError {
+    SignalError::AtLine {
+        file: path.to_path_buf(),
+        line: line as u64,
+        message: format!("{format}: {}", message.into()),
+    }
+}
+
 /// One data column as a format reader found it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {

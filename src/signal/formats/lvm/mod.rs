@@ -37,11 +37,7 @@ struct Layout {
 }
 
 fn err(path: &Path, line: usize, message: impl Into<String>) -> SignalError {
-    SignalError::AtLine {
-        file: path.to_path_buf(),
-        line: line as u64,
-        message: format!("LVM: {}", message.into()),
-    }
+    super::table::at_line(path, line, "LVM", message)
 }
 
 /// Reads an LVM file into named columns.
