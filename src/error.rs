@@ -117,7 +117,7 @@ pub enum SignalError {
         expected: usize,
         found: usize,
     },
-    #[error("{}: line {line}, column `{column}`: {what} `{text}`", file.display())]
+    #[error("{}: line {line}, column `{column}`: {what}{}", file.display(), quoted_cell(text))]
     BadCell {
         file: PathBuf,
         line: u64,
@@ -196,6 +196,15 @@ pub enum SignalError {
     Channel { channel: String, message: String },
     #[error("{0}")]
     Invalid(String),
+}
+
+/// A cell's text after the error, or nothing for an empty cell (whose message says so).
+fn quoted_cell(text: &str) -> String {
+    if text.is_empty() {
+        String::new()
+    } else {
+        format!(" `{text}`")
+    }
 }
 
 fn segment_too_long(nperseg: usize, len: usize, channel: &str) -> String {

@@ -753,6 +753,50 @@ fn a_scope_csv_with_a_settings_preamble_and_a_label_line() {
     assert_eq!(log.info.channels[0].unit, Unit::G);
 }
 
+/// A catman export of two channel groups (1000 Hz and 100 Hz, tab-separated, a units row),
+/// 5 s long, past the 64 KB head the dialect is told from: the slow group's cells end after
+/// its 500 samples. Read whole, the first empty cell is an error at its line that says how to
+/// leave the group out; with `--channels` naming the fast channel, the log reads at 1000 Hz
+/// (analytic, 1e-9) with RMS 2/√2 (50 Hz sine over whole periods, 1e-6).
+#[test]
+fn a_slower_channel_group_is_left_out_by_naming_the_others() {
+    let rows = 5 * N;
+    let mut text = String::from(
+        "File name:\tC:\\test.bin\n\nTime  1 - default sample rate\tA\tTime  2 - slow sample rate\tTemp\ns\tg\ts\t°C\n",
+    );
+    for i in 0..rows {
+        let slow = if i < rows / 10 {
+            format!("{:.3}\t{:.3}", i as f64 / 100.0, 20.0 + i as f64 * 1e-3)
+        } else {
+            "\t".to_string()
+        };
+        text.push_str(&format!("{:.9}\t{:.9}\t{slow}\n", i as f64 / FS, sample(i)));
+    }
+    let p = write("catman-groups.txt", &text);
+    let e = read_error(&p);
+    let line = 4 + rows / 10 + 1;
+    assert!(
+        e.contains(&format!(
+            "line {line}, column `Time  2 - slow sample rate`: empty cell"
+        )) && e.contains("--channels"),
+        "{e}"
+    );
+    let fast = IngestOptions {
+        channels: Some(vec!["A".into()]),
+        ..Default::default()
+    };
+    let log = read_csv(&p, &fast).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        (log.info.fs_hz - FS).abs() < FS * 1e-9,
+        "{}",
+        log.info.fs_hz
+    );
+    let x = log.channel("A").unwrap();
+    assert_eq!(x.len(), rows);
+    let want = 2.0 / 2f64.sqrt();
+    assert!((rms(x) - want).abs() < want * 1e-6, "rms {}", rms(x));
+}
+
 /// A PicoQuake-style IMU export (its documented layout: `# Config: data_rate = 2000.0 Hz,
 /// filter = 488 Hz, ...`, a `count` column, accelerations and gyro rates at rest), 10 000
 /// samples of a 100 Hz sine of amplitude 1: the rate comes from the clause that names it (not

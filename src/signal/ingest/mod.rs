@@ -251,7 +251,8 @@ fn bad_cell(file: &Path, line: u64, column: &str, bytes: &[u8]) -> SignalError {
     let text = String::from_utf8_lossy(bytes.trim_ascii()).into_owned();
     let lower = text.to_ascii_lowercase();
     let what = if text.is_empty() {
-        "empty cell"
+        "empty cell (a column that stops before the others, as a slower channel group does, is \
+         left out by naming the other channels with --channels)"
     } else if lower.contains("nan") {
         "not a number"
     } else if lower.contains("inf") || fast_float2::parse::<f64, _>(text.as_bytes()).is_ok() {
