@@ -124,10 +124,15 @@ impl WelchArgs {
 /// Prints the reader's dialect decisions once, on stderr (stdout may hold the JSON).
 pub fn print_ingest_notes(info: Option<&LogInfo>) {
     print_notes(info.map(|i| i.ingest.notes.as_slice()).unwrap_or_default());
-    for w in info
-        .map(|i| i.ingest.warnings.as_slice())
-        .unwrap_or_default()
-    {
+    print_warnings(
+        info.map(|i| i.ingest.warnings.as_slice())
+            .unwrap_or_default(),
+    );
+}
+
+/// Prints what a file says is wrong with it, one `warning:` line each, on stderr.
+pub fn print_warnings(warnings: &[String]) {
+    for w in warnings {
         eprintln!("warning: {w}");
     }
 }

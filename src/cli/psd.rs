@@ -119,9 +119,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     print_ingest_notes(run.psd.info.as_ref());
     print_notes(&run.psd.notes);
     let warnings = resolution_warnings(&run, &wopts, profile_band);
-    for w in &warnings {
-        eprintln!("warning: {w}");
-    }
+    super::log_args::print_warnings(&warnings);
     let mut human = summary(&args, &run, &wopts);
     let pass = run.tolerance.as_ref().is_none_or(|(_, t)| t.pass);
     if let Some(dir) = &args.out {

@@ -70,9 +70,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     let res = srs_of_file(&args.log, &ingest, &opts)?;
     if let Some(record) = &res.ingest {
         super::log_args::print_notes(&record.notes);
-        for w in &record.warnings {
-            eprintln!("warning: {w}");
-        }
+        super::log_args::print_warnings(&record.warnings);
     }
     if args.fmax.is_none() {
         super::log_args::print_notes(&[format!(

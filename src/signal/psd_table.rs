@@ -254,12 +254,7 @@ pub fn read_psd_table(path: &Path, opts: &IngestOptions) -> Result<Option<PsdTab
             message: format!("cannot read: {e}"),
         })?;
     let rows = data_rows(path, &bytes, &d, "PSD table")?;
-    let notes: Vec<String> = crate::signal::ingest::text::open(path)
-        .ok()
-        .and_then(|(_, form)| form.note(path))
-        .into_iter()
-        .chain(crate::signal::ingest::dialect_notes(path, &d, header))
-        .collect();
+    let notes = crate::signal::ingest::freq_table::table_notes(path, &d, header);
     let (df, offset) = uniform_lines(path, &rows, printed_decimals(&bytes, &d))?;
     let lines = offset + rows.len();
     if lines > opts.max_psd_lines {

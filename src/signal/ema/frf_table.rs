@@ -142,14 +142,7 @@ pub fn read_frf_table(path: &Path) -> Result<Option<FrfTable>, SignalError> {
             h: rows.iter().map(|(_, r)| value(r[a], r[b], kind)).collect(),
         })
         .collect();
-    let notes = crate::signal::ingest::text::open(path)
-        .ok()
-        .and_then(|(_, form)| form.note(path))
-        .into_iter()
-        .chain(crate::signal::ingest::dialect_notes(
-            path, &dialect, &header,
-        ))
-        .collect();
+    let notes = crate::signal::ingest::freq_table::table_notes(path, &dialect, &header);
     Ok(Some(FrfTable {
         freqs,
         frfs,

@@ -25,6 +25,17 @@ pub fn sniff_head(path: &Path) -> Option<Dialect> {
     sniff_dialect(&head, eof)
 }
 
+/// How a table's text was read, one note per decision (encoding, delimiter, decimal comma,
+/// preamble, units row), as a log's are.
+pub fn table_notes(path: &Path, dialect: &Dialect, header: &[String]) -> Vec<String> {
+    super::text::open(path)
+        .ok()
+        .and_then(|(_, form)| form.note(path))
+        .into_iter()
+        .chain(super::dialect_notes(path, dialect, header))
+        .collect()
+}
+
 /// Whether a header cell names a frequency column (`f`, `freq`, `Frequency [Hz]`, `Frequenz`).
 pub fn is_frequency_column(name: &str) -> bool {
     let n = stem_of_unit(&name.to_lowercase());
