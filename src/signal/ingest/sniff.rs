@@ -116,12 +116,7 @@ pub fn number(cell: &str, decimal_comma: bool) -> Option<f64> {
 fn drop_trailer(content: &mut Vec<usize>, lines: &[(usize, &str)]) {
     let holds_number = |line: &str| {
         line.split([',', ';', '\t', ' '])
-            .map(|c| c.trim().trim_matches('"'))
-            .any(|c| {
-                number(c, false).is_some()
-                    || number(c, true).is_some()
-                    || super::clock::parse(c).is_some()
-            })
+            .any(|c| super::trailer::is_number_cell(c.as_bytes(), &[false, true]))
     };
     let trailer = content
         .iter()

@@ -68,18 +68,27 @@ pub fn find(rest: &[u8], carry: &[u8], reader: &mut impl Read, cells: &Cells) ->
 }
 
 fn has_number(line: &[u8], cells: &Cells) -> bool {
-    let is_number = |cell: &[u8]| {
-        let t = cell.trim_ascii();
-        let t = t.strip_prefix(b"\"").unwrap_or(t);
-        let t = t.strip_suffix(b"\"").unwrap_or(t);
-        super::parse_cell(t, cells.decimal_comma).is_some()
-            || std::str::from_utf8(t).is_ok_and(|s| super::clock::parse(s).is_some())
-    };
+    let commas = [cells.decimal_comma];
     if cells.whitespace {
-        line.split(|b| b.is_ascii_whitespace()).any(is_number)
+        line.split(|b| b.is_ascii_whitespace())
+            .any(|c| is_number_cell(c, &commas))
     } else {
-        line.split(|&b| b == cells.delim).any(is_number)
+        line.split(|&b| b == cells.delim)
+            .any(|c| is_number_cell(c, &commas))
     }
+}
+
+/// Whether a cell reads as a number (in one of the decimal conventions given) or a clock time:
+/// what tells a data row from a trailer line, both once the dialect is known and while it is
+/// being told.
+pub(super) fn is_number_cell(cell: &[u8], decimal_commas: &[bool]) -> bool {
+    let t = cell.trim_ascii();
+    let t = t.strip_prefix(b"\"").unwrap_or(t);
+    let t = t.strip_suffix(b"\"").unwrap_or(t);
+    decimal_commas
+        .iter()
+        .any(|&comma| super::parse_cell(t, comma).is_some())
+        || std::str::from_utf8(t).is_ok_and(|s| super::clock::parse(s.trim()).is_some())
 }
 
 #[cfg(test)]
