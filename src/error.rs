@@ -178,11 +178,13 @@ pub enum SignalError {
     },
     #[error("{}: {message}", file.display())]
     Unsupported { file: PathBuf, message: String },
-    #[error("{}", segment_too_long(*nperseg, *len, channel))]
+    #[error("{}", segment_too_long(*nperseg, *len, channel, file.as_deref()))]
     SegmentTooLong {
         nperseg: usize,
         len: usize,
         channel: String,
+        /// The log the channel comes from, once known.
+        file: Option<PathBuf>,
     },
     #[error("overlap {overlap} must be in [0, 1)")]
     BadOverlap { overlap: f64 },
@@ -207,16 +209,22 @@ fn quoted_cell(text: &str) -> String {
     }
 }
 
-fn segment_too_long(nperseg: usize, len: usize, channel: &str) -> String {
+fn segment_too_long(
+    nperseg: usize,
+    len: usize,
+    channel: &str,
+    file: Option<&std::path::Path>,
+) -> String {
     let min = crate::signal::welch::MIN_NPERSEG;
+    let at = file.map_or(String::new(), |f| format!("{}: ", f.display()));
     if len < min {
         format!(
-            "the signal{} has {len} samples, fewer than the {min} of the shortest Welch segment: too short for a spectrum (a shock record goes to `satqual srs`)",
+            "{at}the signal{} has {len} samples, fewer than the {min} of the shortest Welch segment: too short for a spectrum (a shock record goes to `satqual srs`)",
             channel_suffix(channel)
         )
     } else {
         format!(
-            "nperseg = {nperseg} is longer than the signal ({len} samples){}",
+            "{at}nperseg = {nperseg} is longer than the signal ({len} samples){}",
             channel_suffix(channel)
         )
     }
@@ -287,6 +295,21 @@ pub enum Error {
     },
     #[error("{0}")]
     Other(String),
+}
+
+impl SignalError {
+    /// A too-short signal's error named by its channel and log; any other error as it is.
+    pub fn in_channel(self, channel: &str, file: &std::path::Path) -> SignalError {
+        match self {
+            SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
+                nperseg,
+                len,
+                channel: channel.to_string(),
+                file: Some(file.to_path_buf()),
+            },
+            other => other,
+        }
+    }
 }
 
 impl Error {

@@ -316,7 +316,8 @@ fn uff58_unit_comes_from_the_units_field_not_the_axis_label() {
     );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["channels"][0]["unit"], "as-is");
+    // Kept as it is, and said to be in the file's unit.
+    assert_eq!(v["channels"][0]["unit"], "Pa");
 }
 
 #[test]
@@ -919,4 +920,44 @@ fn an_frf_states_its_unit_from_the_channels_as_read() {
     for (f, a) in force.iter().zip(accel) {
         assert!((a - f).abs() <= 1e-6 * f.abs().max(1e-3), "{a} g for {f} N");
     }
+}
+
+/// A channel that is not an acceleration keeps its values and is reported in the unit the file
+/// states for it, from a units row (`N`) or the name's brackets (`p [kPa]`); a channel with no
+/// stated unit stays `as-is`. The band RMS of a 2-amplitude sine is 2/√2 whatever the unit
+/// (analytic, 1e-3: Welch's band integral over 50 Hz with a Hann window).
+#[test]
+fn a_channel_kept_as_it_is_is_reported_in_the_files_unit() {
+    let mut text = String::from("time,force,p [kPa],raw\ns,N,,\n");
+    for i in 0..N {
+        let (t, v) = (i as f64 / FS, sample(i));
+        text.push_str(&format!("{t:.9},{v:.9},{v:.9},{v:.9}\n"));
+    }
+    let p = write("kept-units.csv", &text);
+    let log = check(&p, &IngestOptions::default(), "force");
+    let labels: Vec<String> = log
+        .info
+        .channels
+        .iter()
+        .map(|c| c.reported_unit())
+        .collect();
+    assert_eq!(labels, ["N", "kPa", "as-is"]);
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let want = 2.0 / 2f64.sqrt();
+    for (ch, unit) in v["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(["N", "kPa", "as-is"])
+    {
+        assert_eq!(ch["unit"], unit, "{ch}");
+        let band = ch["grms"].as_f64().unwrap();
+        assert!((band - want).abs() < want * 1e-3, "{band}");
+    }
+    assert!(err.contains("band RMS") && !err.contains("Grms"), "{err}");
 }

@@ -224,8 +224,9 @@ fn summary(args: &Args, run: &PsdRun, wopts: &WelchOptions) -> Vec<String> {
     )];
     for (c, peaks) in res.channels.iter().zip(&run.peaks) {
         human.push(format!(
-            "  {:<20} Grms {:.6} {}  RMS {}  peaks: {}",
+            "  {:<20} {} {:.6} {}  RMS {}  peaks: {}",
             c.name,
+            band_rms_name(&c.unit),
             c.grms,
             c.unit,
             c.rms.map_or("-".into(), |r| format!("{r:.6}")),
@@ -356,16 +357,28 @@ fn write_outputs(dir: &std::path::Path, res: &satqual::signal::LogPsd) -> Result
         .iter()
         .zip(&pts)
         .map(|(c, p)| Series {
-            label: format!("{} (Grms {:.4} {})", c.name, c.grms, c.unit),
+            label: format!(
+                "{} ({} {:.4} {})",
+                c.name,
+                band_rms_name(&c.unit),
+                c.grms,
+                c.unit
+            ),
             points: p,
         })
         .collect();
-    let unit = if res.channels.iter().all(|c| c.unit == "g") {
-        "g²/Hz"
+    let first = res.channels.first().map_or("", |c| c.unit.as_str());
+    let unit = if res.channels.iter().all(|c| c.unit == first) && first != "as-is" {
+        format!("{first}²/Hz")
     } else {
-        "unit²/Hz"
+        "unit²/Hz".to_string()
     };
     let svg = loglog_svg("PSD", "frequency [Hz]", &format!("PSD [{unit}]"), &series)?;
     write_atomic(&dir.join("psd.svg"), svg.as_bytes())?;
     Ok(())
+}
+
+/// Grms names the band RMS of an acceleration in g; values in any other unit get the plain name.
+fn band_rms_name(unit: &str) -> &'static str {
+    if unit == "g" { "Grms" } else { "band RMS" }
 }

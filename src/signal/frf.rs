@@ -188,28 +188,15 @@ fn check_live(log: &super::ingest::Log, name: &str, k: usize) -> Result<(), Sign
 /// states in brackets (`Force [N]` → N), else `as-is`.
 pub fn h_unit(log: &super::ingest::Log, input: &str, output: &str) -> String {
     let label = |name: &str| {
-        let unit = log
-            .info
-            .channels
-            .iter()
-            .find(|c| c.name == name)
-            .map(|c| c.unit);
-        match unit {
-            Some(u) if u != super::ingest::Unit::AsIs => u.reported().to_string(),
-            _ => stated_unit(name).unwrap_or("as-is").to_string(),
+        let channel = log.info.channels.iter().find(|c| c.name == name);
+        match channel {
+            Some(c) => c.reported_unit(),
+            None => super::ingest::unit::bracketed(name)
+                .unwrap_or("as-is")
+                .to_string(),
         }
     };
     format!("{}/{}", label(output), label(input))
-}
-
-/// The text in a name's closing brackets: `Kraft [N]` → `N`, `F (lbf)` → `lbf`.
-fn stated_unit(name: &str) -> Option<&str> {
-    let t = name.trim_end();
-    [('[', ']'), ('(', ')')].iter().find_map(|&(open, close)| {
-        let inner = t.strip_suffix(close)?;
-        let unit = inner[inner.rfind(open)? + 1..].trim();
-        (!unit.is_empty()).then_some(unit)
-    })
 }
 
 pub fn read_frf_logs(
@@ -264,18 +251,11 @@ pub fn frf_of_logs(
         .map(|l| (l.data[0].as_slice(), l.data[1].as_slice()))
         .collect();
     let fs = logs.first().map_or(0.0, |l| l.info.fs_hz);
-    frf(&records, fs, opts).map_err(|e| match e {
-        SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
-            nperseg,
-            len,
-            channel: format!(
-                "{input} of {}",
-                logs.first()
-                    .map_or(String::new(), |l| l.info.file.display().to_string())
-            ),
-        },
-        o => o,
-    })
+    let result = frf(&records, fs, opts);
+    match logs.first() {
+        Some(first) => result.map_err(|e| e.in_channel(input, &first.info.file)),
+        None => result,
+    }
 }
 
 /// FRF between channels `input` and `output` averaged over the records of several CSV logs.

@@ -139,18 +139,10 @@ pub fn psd_of_file(
     let stream = stream.ok_or_else(|| SignalError::HeaderOnly {
         file: path.to_path_buf(),
     })?;
-    let result = stream.finish(info.fs_hz).map_err(|e| match e {
-        SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
-            nperseg,
-            len,
-            channel: format!(
-                "{} of {}",
-                info.channels.first().map_or("", |c| c.name.as_str()),
-                path.display()
-            ),
-        },
-        other => other,
-    })?;
+    let first = info.channels.first().map_or("", |c| c.name.as_str());
+    let result = stream
+        .finish(info.fs_hz)
+        .map_err(|e| e.in_channel(first, path))?;
     let n = info.samples.max(1) as f64;
     let channels = info
         .channels
@@ -159,7 +151,7 @@ pub fn psd_of_file(
         .zip(&sumsq)
         .map(|((c, psd), s)| ChannelPsd {
             name: c.name.clone(),
-            unit: c.unit.reported().to_string(),
+            unit: c.reported_unit(),
             grms: rms_of(&psd.frequencies(), &psd.values),
             psd,
             rms: Some((s / n).sqrt()),
@@ -213,18 +205,11 @@ fn psd_of_log(log: Log, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
         .par_iter()
         .zip(&log.data)
         .map(|(c, x)| {
-            let psd = welch(x, fs, opts).map_err(|e| match e {
-                SignalError::SegmentTooLong { nperseg, len, .. } => SignalError::SegmentTooLong {
-                    nperseg,
-                    len,
-                    channel: format!("{} of {}", c.name, log.info.file.display()),
-                },
-                o => o,
-            })?;
+            let psd = welch(x, fs, opts).map_err(|e| e.in_channel(&c.name, &log.info.file))?;
             let rms = (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
             Ok(ChannelPsd {
                 name: c.name.clone(),
-                unit: c.unit.reported().to_string(),
+                unit: c.reported_unit(),
                 grms: rms_of(&psd.frequencies(), &psd.values),
                 psd,
                 rms: Some(rms),
@@ -339,16 +324,11 @@ fn psd_of_uff(
                 Ok(read_spectrum(name.clone(), unit, Psd::from_lines(step, values)))
             } else {
                 let x: Vec<f64> = r.re.iter().map(|v| v * k).collect();
-                let psd = welch(&x, 1.0 / step, opts).map_err(|e| match e {
-                    SignalError::SegmentTooLong { nperseg, len, .. } => {
-                        SignalError::SegmentTooLong { nperseg, len, channel: name.clone() }
-                    }
-                    o => o,
-                })?;
+                let psd = welch(&x, 1.0 / step, opts).map_err(|e| e.in_channel(name, path))?;
                 let rms = (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
                 Ok(ChannelPsd {
                     name: name.clone(),
-                    unit: unit.reported().into(),
+                    unit: unit.reported_with(&r.ordinate_label),
                     grms: rms_of(&psd.frequencies(), &psd.values),
                     psd,
                     rms: Some(rms),

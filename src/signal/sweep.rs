@@ -173,6 +173,7 @@ pub fn track_sweep(
             nperseg: block.saturating_mul(4),
             len: drive.len(),
             channel: "drive".into(),
+            file: None,
         });
     }
     let z = analytic(drive);

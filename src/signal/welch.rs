@@ -447,6 +447,7 @@ impl Engine {
                 nperseg: self.opts.nperseg,
                 len,
                 channel,
+                file: None,
             });
         }
         if !(fs.is_finite() && fs > 0.0) {
@@ -519,6 +520,7 @@ pub fn welch_multi(
             nperseg: opts.nperseg,
             len,
             channel: String::new(),
+            file: None,
         });
     }
     let mut engine = Engine::new(channels.len(), pairs, opts)?;
@@ -658,6 +660,7 @@ impl WelchStream {
                 nperseg: self.opts.nperseg,
                 len,
                 channel: self.names.first().cloned().unwrap_or_default(),
+                file: None,
             }),
         }
     }

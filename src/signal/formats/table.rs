@@ -302,11 +302,16 @@ pub fn table_to_log(path: &Path, t: Table, opts: &IngestOptions) -> Result<Log, 
         }
         let (unit, unit_source) = unit_of(s, opts);
         let k = unit.to_report_factor();
+        let unit_label = match unit {
+            Unit::AsIs => crate::signal::ingest::unit::kept_label(&s.unit_label),
+            _ => String::new(),
+        };
         channels.push(ChannelInfo {
             name: s.name.clone(),
             unit,
             unit_source,
             column: i,
+            unit_label,
         });
         data.push(s.values.iter().map(|v| v * k).collect());
     }

@@ -26,7 +26,7 @@ pub mod text;
 mod time_unit;
 mod timing;
 mod trailer;
-mod unit;
+pub mod unit;
 
 use crate::error::SignalError;
 pub use bandlimit::AntiAliasReport;
@@ -103,6 +103,18 @@ pub struct ChannelInfo {
     pub unit_source: UnitSource,
     /// Index of the column in the file (0-based).
     pub column: usize,
+    /// For a channel kept as it is, the unit the file states for it (`N`, `Pa`, `V`): its
+    /// values are in that unit. Empty when converted or when the file states none.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub unit_label: String,
+}
+
+impl ChannelInfo {
+    /// The unit of the channel's values as results state it: g for an acceleration, the
+    /// file's own unit for a channel kept as it is, `as-is` when the file states none.
+    pub fn reported_unit(&self) -> String {
+        self.unit.reported_with(&self.unit_label)
+    }
 }
 
 /// What resampling did to a non-uniform log.
@@ -902,11 +914,10 @@ fn channel_infos(
         .iter()
         .map(|&i| {
             let name = header[i].clone();
-            let row_unit = d
-                .units
-                .as_ref()
-                .and_then(|u| Unit::parse(u[i].trim_matches(['[', ']', '(', ')'])).ok())
-                .filter(|u| *u != Unit::AsIs);
+            let row_text = d.units.as_ref().map_or("", |u| {
+                u[i].trim().trim_matches(['[', ']', '(', ')']).trim()
+            });
+            let row_unit = Unit::parse(row_text).ok().filter(|u| *u != Unit::AsIs);
             let (unit, unit_source) =
                 if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
                     (*u, UnitSource::Option)
@@ -920,11 +931,16 @@ fn channel_infos(
                 } else {
                     (Unit::AsIs, UnitSource::Default)
                 };
+            let unit_label = match unit {
+                Unit::AsIs => unit::kept_label(unit::bracketed(&name).unwrap_or(row_text)),
+                _ => String::new(),
+            };
             ChannelInfo {
                 name,
                 unit,
                 unit_source,
                 column: i,
+                unit_label,
             }
         })
         .collect()

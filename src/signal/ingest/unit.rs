@@ -59,6 +59,28 @@ fn normalise_unit(s: &str) -> String {
     n
 }
 
+/// The text in a name's closing brackets: `Kraft [N]` → `N`, `F (lbf)` → `lbf`.
+pub fn bracketed(name: &str) -> Option<&str> {
+    let t = name.trim_end();
+    [('[', ']'), ('(', ')')].iter().find_map(|&(open, close)| {
+        let inner = t.strip_suffix(close)?;
+        let unit = inner[inner.rfind(open)? + 1..].trim();
+        (!unit.is_empty()).then_some(unit)
+    })
+}
+
+/// A file's unit text as a label for values kept as they are: trimmed, at most 24 characters
+/// of printable text, empty when it is blank or one of the as-is spellings.
+pub fn kept_label(text: &str) -> String {
+    let t = text.trim();
+    let printable = !t.is_empty() && t.chars().count() <= 24 && !t.chars().any(char::is_control);
+    if printable && Unit::parse(t).is_err() {
+        t.to_string()
+    } else {
+        String::new()
+    }
+}
+
 impl Unit {
     pub fn parse(s: &str) -> Result<Unit, SignalError> {
         let n = normalise_unit(s);
@@ -125,6 +147,15 @@ impl Unit {
     }
 
     /// Unit of the values after conversion.
+    /// As [`Unit::reported`], but values kept as they are take the file's unit text for them
+    /// (`label`, see [`kept_label`]) where it states one.
+    pub fn reported_with(self, label: &str) -> String {
+        match (self, kept_label(label)) {
+            (Unit::AsIs, l) if !l.is_empty() => l,
+            _ => self.reported().to_string(),
+        }
+    }
+
     pub fn reported(self) -> &'static str {
         match self {
             Unit::AsIs => "as-is",
@@ -136,6 +167,24 @@ impl Unit {
 #[cfg(test)]
 mod tests {
     use super::Unit;
+
+    /// The unit text of a channel kept as it is: brackets of a name, the file's own spelling,
+    /// nothing for blanks, as-is spellings and text too long to be a unit.
+    #[test]
+    fn a_kept_channel_takes_the_files_unit_text() {
+        use super::{bracketed, kept_label};
+        assert_eq!(bracketed("Kraft [N]"), Some("N"));
+        assert_eq!(bracketed("F (lbf) "), Some("lbf"));
+        assert_eq!(bracketed("force"), None);
+        assert_eq!(bracketed("x []"), None);
+        assert_eq!(kept_label(" Pa "), "Pa");
+        assert_eq!(kept_label("Deg C"), "Deg C");
+        assert_eq!(kept_label(""), "");
+        assert_eq!(kept_label("raw"), "");
+        assert_eq!(kept_label(&"x".repeat(25)), "");
+        assert_eq!(Unit::AsIs.reported_with("V"), "V");
+        assert_eq!(Unit::MPerS2.reported_with("m/s^2"), "g");
+    }
 
     /// Spellings seen in LabVIEW, UFF, catman and spreadsheet exports, each to its unit.
     #[test]

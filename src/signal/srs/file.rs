@@ -5,7 +5,7 @@
 use super::{Offset, SrsOptions, SrsPoint, natural_frequencies, peak, pre_shock_mean, srs};
 use crate::error::SignalError;
 use crate::signal::formats::read_log;
-use crate::signal::ingest::{IngestOptions, IngestRecord, Unit};
+use crate::signal::ingest::{IngestOptions, IngestRecord};
 use crate::signal::uff::{looks_like_uff, read_uff58};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -67,7 +67,7 @@ pub fn srs_of_file(
 fn channel_srs(
     path: &Path,
     name: String,
-    unit: Unit,
+    unit: String,
     mut x: Vec<f64>,
     fs_hz: f64,
     freqs: &[f64],
@@ -85,9 +85,9 @@ fn channel_srs(
     x.iter_mut().for_each(|v| *v -= offset);
     let mut points = srs(&x, fs_hz, freqs, opts.q).map_err(|e| in_channel(e.to_string()))?;
     // A record in g gives ω·z in g·s: report it in m/s, the unit shock severity is judged in.
-    let (pv_unit, pv_factor) = match unit.reported() {
-        "g" => ("m/s", crate::units::G),
-        _ => ("as-is*s", 1.0),
+    let (pv_unit, pv_factor) = match unit.as_str() {
+        "g" => ("m/s".to_string(), crate::units::G),
+        other => (format!("{other}*s"), 1.0),
     };
     points
         .iter_mut()
@@ -95,8 +95,8 @@ fn channel_srs(
     let (pk, i) = peak(&x);
     Ok(ChannelSrs {
         name,
-        unit: unit.reported().to_string(),
-        pv_unit: pv_unit.to_string(),
+        unit,
+        pv_unit,
         offset_removed: offset,
         peak: pk,
         peak_time_s: i as f64 / fs_hz,
@@ -105,7 +105,8 @@ fn channel_srs(
     })
 }
 
-type Records = Vec<(String, Unit, Vec<f64>)>;
+/// Name, the unit the values are in as results state it, values.
+type Records = Vec<(String, String, Vec<f64>)>;
 
 /// The selected channels of a CSV log or a UFF58 file, in the reported unit, and the rate.
 fn read_records(
@@ -122,7 +123,7 @@ fn read_records(
         .channels
         .iter()
         .zip(log.data)
-        .map(|(c, x)| (c.name.clone(), c.unit, x))
+        .map(|(c, x)| (c.name.clone(), c.reported_unit(), x))
         .collect();
     Ok((log.info.fs_hz, records, Some(log.info.ingest)))
 }
@@ -164,7 +165,8 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
         }
         let unit = crate::signal::uff::ordinate_unit(&r.ordinate_label, ingest, &name);
         let k = unit.to_report_factor();
-        out.push((name, unit, r.re.iter().map(|v| v * k).collect()));
+        let unit_text = unit.reported_with(&r.ordinate_label);
+        out.push((name, unit_text, r.re.iter().map(|v| v * k).collect()));
     }
     check_uff_selection(path, ingest, &out, &names)?;
     let (fs, _) = fs.ok_or_else(|| SignalError::HeaderOnly {
