@@ -97,6 +97,19 @@ pub struct Qualification {
     pub provenance: Provenance,
 }
 
+impl Qualification {
+    /// What the analyses could not stand fully behind, each with the analysis it comes from:
+    /// the modal solve's numerical warnings, then the nominal separation run's.
+    pub fn warnings(&self) -> Vec<(&'static str, &str)> {
+        let modal = self.modal.iter().flat_map(|m| &m.result.warnings);
+        let separation = self.separation.iter().flat_map(|s| &s.result.warnings);
+        modal
+            .map(|w| ("modal solve", w.as_str()))
+            .chain(separation.map(|w| ("separation", w.as_str())))
+            .collect()
+    }
+}
+
 /// What one measured log gave.
 #[derive(Debug, Clone, Serialize)]
 pub struct TestLogResult {

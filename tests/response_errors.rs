@@ -169,3 +169,42 @@ fn damping_given_to_a_renumbered_mode_is_refused() {
         "{e}"
     );
 }
+
+/// Modes extracted only below the top of the excitation band would leave resonances inside
+/// the band out of the response: the SDOF scene (fn = 100 Hz, sine to 1000 Hz, random to
+/// 2000 Hz) with `modal.fmax_hz = 50` is refused by `sine` and `random` with exit 2, naming the
+/// key's line and both frequencies. With fmax at the sine band's top, or with `modes = 1`, every
+/// mode of this one-DOF model is extracted, so nothing is missing and both run (the random band
+/// reaching above fmax then leaves out no mode).
+#[test]
+fn modes_stopping_below_the_excitation_band_are_refused() {
+    let dir = crate::common::temp_dir("resp-truncated-basis");
+    let run = |modal: &str, cmd: &str| {
+        let text = format!("{}\n[modal]\n{modal}\n", base());
+        let p = dir.join("truncated.toml");
+        std::fs::write(&p, &text).unwrap();
+        let (code, _, err) = crate::common::run_text(&[cmd, p.to_str().unwrap(), "--json"], None);
+        (code, err, line_of(&text, modal))
+    };
+    for cmd in ["sine", "random"] {
+        let (code, err, line) = run("fmax_hz = 50.0", cmd);
+        let top = if cmd == "sine" { "1000.0" } else { "2000.0" };
+        assert_eq!(code, 2, "{err}");
+        assert!(
+            err.contains(&format!("truncated.toml:{line}:"))
+                && err.contains("key `modal.fmax_hz`")
+                && err.contains("the modes stop at 50.0 Hz")
+                && err.contains(&format!("the {cmd} band reaches {top} Hz")),
+            "{err}"
+        );
+    }
+    for (modal, cmd) in [
+        ("fmax_hz = 1000.0", "sine"),
+        ("fmax_hz = 1000.0", "random"),
+        ("modes = 1", "sine"),
+        ("modes = 1", "random"),
+    ] {
+        let (code, err, _) = run(modal, cmd);
+        assert!(code == 0 || code == 1, "{modal} {cmd}: {err}");
+    }
+}

@@ -73,9 +73,16 @@ fn short_columns_with_high_friction_wedge_and_fail_their_own_gate() {
     let gates = nominal(&r, &limits(&m), &GatesSpec::default());
     let on_bars = gates
         .iter()
-        .find(|g| g.name.contains("never left"))
+        .find(|g| g.name.contains("time on the guide bars: never left"))
         .unwrap();
     assert!(!on_bars.pass && on_bars.margin == -1.0);
+    // It has no rate at a bar exit, so its tip-off gate fails too instead of passing on the
+    // rate at the end of the run.
+    let tip_off = gates.iter().find(|g| g.name.contains("tip-off")).unwrap();
+    assert!(
+        !tip_off.pass && tip_off.name.contains("never left the bars"),
+        "{tip_off:?}"
+    );
 
     for (pitch, mu) in [(0.5, 0.3), (0.05, 0.1)] {
         let m = Model::from_scene(&crate::common::parse(&drawer(pitch, mu))).unwrap();

@@ -176,3 +176,54 @@ fn non_finite_state_stops_with_time_and_body() {
         other => panic!("expected NonFinite, got {other:?}"),
     }
 }
+
+/// Runs the paper stack with one line of its `[separation]` replaced.
+fn paper_run_with(old: &str, new: &str) -> separation::SeparationResult {
+    let text = paper_text();
+    assert!(text.contains(old), "{old}");
+    let scene = Scene::parse(Path::new("paper.toml"), &text.replacen(old, new, 1)).unwrap();
+    let m = Model::from_scene(&scene).unwrap();
+    separation::run(&m, &RunOptions::default()).unwrap()
+}
+
+/// A legal but loose tolerance (1e-2, the top of its range) lets the energy audit drift to
+/// the order of the spring energy itself: the run says it cannot stand behind its numbers,
+/// against the 1e-3 bound (`MAX_TRUSTED_RESIDUAL`; the default 1e-6 keeps the residual below
+/// 1e-6, docs/separation.md), and the reference run says nothing.
+#[test]
+fn a_run_whose_energy_audit_does_not_close_says_so() {
+    let loose = paper_run_with("tolerance = 1e-6", "tolerance = 1e-2");
+    assert!(loose.energy.max_relative_residual > 1e-3);
+    assert!(
+        loose.warnings.iter().any(
+            |w| w.contains("energy audit does not close") && w.contains("separation.tolerance")
+        ),
+        "{:?}",
+        loose.warnings
+    );
+    let reference = paper_run_with("tolerance = 1e-6", "tolerance = 1e-6");
+    assert!(reference.warnings.is_empty(), "{:?}", reference.warnings);
+}
+
+/// Released all at once (interval 0), the lower satellites catch up with the ones above
+/// faster than their springs extend and pass through them (negative clearance): contact
+/// between satellites is not in the model, so the run flags every such pair.
+#[test]
+fn satellites_passing_through_each_other_are_flagged() {
+    let r = paper_run_with("release_interval_s = 2.0", "release_interval_s = 0.0");
+    let overlapping: Vec<usize> = r
+        .pair_clearances
+        .iter()
+        .filter(|p| p.min_clearance_m < 0.0)
+        .map(|p| p.upper)
+        .collect();
+    assert!(!overlapping.is_empty());
+    for k in overlapping {
+        let pair = format!("satellites {k} and {} pass through each other", k + 1);
+        assert!(
+            r.warnings.iter().any(|w| w.contains(&pair)),
+            "{:?}",
+            r.warnings
+        );
+    }
+}

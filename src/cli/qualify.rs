@@ -67,7 +67,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("reports").join(scene.name()));
     satqual::report::qualify::write(&out, &q)?;
-    for w in q.modal.iter().flat_map(|m| &m.result.warnings) {
+    for (_, w) in q.warnings() {
         eprintln!("warning: {}: {w}", args.scene.display());
     }
     let p = Printer::new(args.json);

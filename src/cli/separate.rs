@@ -213,6 +213,9 @@ pub(super) fn print(
         bounds_line(&mut s, mc);
     }
     p.human(s.trim_end());
+    for w in &result.warnings {
+        eprintln!("warning: {}: {w}", scene.path.display());
+    }
     p.json(&Output {
         scene: scene.path.display().to_string(),
         result,

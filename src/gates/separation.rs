@@ -133,12 +133,7 @@ pub fn satellite(s: &SatelliteResult, run: &RunLimits, limits: &GatesSpec) -> [V
             limits.min_separation_speed_m_s,
             LIMITS_SOURCE,
         ),
-        design_margin(
-            format!("satellite {i} tip-off rate at bar exit [deg/s]"),
-            s.final_rate_deg_s,
-            limits.max_tipoff_rate_deg_s,
-            LIMITS_SOURCE,
-        ),
+        tip_off(s, limits.max_tipoff_rate_deg_s),
         on_bars,
         wedging(s, run),
     ]
@@ -146,6 +141,28 @@ pub fn satellite(s: &SatelliteResult, run: &RunLimits, limits: &GatesSpec) -> [V
         let kind = per_satellite_kind(&v.name);
         v.folded_as(kind, NOMINAL_RELEASE)
     })
+}
+
+/// The tip-off rate at the exit from the bars; a satellite that never left them has no exit
+/// rate, so its gate fails whatever the rate at the end of the run.
+fn tip_off(s: &SatelliteResult, limit: f64) -> Verdict {
+    let i = s.index;
+    match s.exit_time_s {
+        Some(_) => design_margin(
+            format!("satellite {i} tip-off rate at bar exit [deg/s]"),
+            s.final_rate_deg_s,
+            limit,
+            LIMITS_SOURCE,
+        ),
+        None => Verdict::gate(
+            format!("satellite {i} tip-off rate at bar exit: never left the bars [deg/s]"),
+            s.final_rate_deg_s,
+            limit,
+            -1.0,
+            false,
+            LIMITS_SOURCE,
+        ),
+    }
 }
 
 /// The load case of the nominal run's per-satellite gates.

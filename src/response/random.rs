@@ -142,7 +142,8 @@ pub fn run(
         c.sort_by(|a, b| b.grms.total_cmp(&a.grms));
         c.truncate(5);
         c.sort_by_key(|m| m.mode);
-        out.responses[pi].miles_grms = c.iter().map(|m| m.grms * m.grms).sum::<f64>().sqrt();
+        // Folded from +0.0: an empty f64 sum is -0.0, which would print as a negative RMS.
+        out.responses[pi].miles_grms = c.iter().fold(0.0, |s, m| s + m.grms * m.grms).sqrt();
         out.responses[pi].miles = c;
     }
     Ok(out)

@@ -104,6 +104,39 @@ fn refuse_unfit(scene: &Scene, sys: &ModalSystem) -> Result<(), Error> {
     refuse_renumbered_damping(scene, sys)
 }
 
+/// Modes extracted only below the top of an excitation band would leave the resonances
+/// between them out of the response (the residual vector stands for them only
+/// quasi-statically), and its peaks and margins would come out low: refused, naming the key
+/// that stopped the extraction. A model whose every mode was extracted has nothing missing.
+fn refuse_truncated_basis(
+    scene: &Scene,
+    sys: &ModalSystem,
+    what: &str,
+    band_top_hz: f64,
+) -> Result<(), Error> {
+    let modes = &sys.result.modes;
+    if modes.len() >= sys.result.dofs {
+        return Ok(());
+    }
+    let opts = default_modal(scene);
+    let last = modes.last().map_or(0.0, |m| m.frequency_hz);
+    let stopped_by_count = opts.modes.is_some_and(|n| modes.len() >= n);
+    let (limit_hz, key) = match opts.fmax_hz {
+        Some(f) if !stopped_by_count => (f, "modal.fmax_hz"),
+        _ => (last, "modal.modes"),
+    };
+    if limit_hz >= band_top_hz {
+        return Ok(());
+    }
+    let msg = format!(
+        "the modes stop at {limit_hz:.1} Hz but the {what} band reaches {band_top_hz:.1} Hz: \
+         resonances between them would be missing from the response (the residual vector \
+         stands for them only quasi-statically) and its peaks and margins would come out low; \
+         extract the modes to at least {band_top_hz:.1} Hz (`modal.fmax_hz`)"
+    );
+    Err(scene.locator().err(key, msg).into())
+}
+
 /// A `[damping] modes` entry that names its mode's direction must find the mode numbered so
 /// with its largest effective-mass fraction in that direction: otherwise the model's modes
 /// were renumbered (a mesh or model change) and the ratio would land on another mode.
@@ -151,6 +184,7 @@ fn default_modal(scene: &Scene) -> ModalOptions {
 }
 
 fn sine_axes(prep: &Prepared, plan: &AxesPlan<SineSpec>) -> Result<Vec<SineAxis>, Error> {
+    refuse_truncated_basis(prep.scene, prep.sys, "sine", plan.spec.band().1)?;
     let mut opts = SineOptions::default();
     opts.grid.max_points = prep.scene.file.limits().grid_points;
     plan.axes
@@ -172,6 +206,8 @@ fn random_axes(
         .spec
         .applied(Some(mass))
         .map_err(|e| prep.scene.locator().err("random", e))?;
+    let top = env.profile.iter().map(|p| p[0]).fold(0.0, f64::max);
+    refuse_truncated_basis(prep.scene, prep.sys, "random", top)?;
     let axes = plan
         .axes
         .iter()

@@ -36,14 +36,13 @@ pub fn preamble(q: &Qualification) -> Vec<Block> {
         })
         .collect();
     let warnings: Vec<ListItem> = q
-        .modal
-        .iter()
-        .flat_map(|m| &m.result.warnings)
-        .map(|w| {
+        .warnings()
+        .into_iter()
+        .map(|(from, w)| {
             ListItem::new(
                 Text::plain("")
                     .strong("warning")
-                    .and(format!(" (modal solve): {w}")),
+                    .and(format!(" ({from}): {w}")),
             )
         })
         .collect();

@@ -186,7 +186,7 @@ impl Sim<'_> {
             .map(|p| p.min_clearance_m)
             .reduce(f64::min);
         let clearance_tracked_to_distance = self.pairs_apart(&rec);
-        SeparationResult {
+        let mut result = SeparationResult {
             satellites,
             energy,
             transitions: self.transitions,
@@ -198,7 +198,10 @@ impl Sim<'_> {
             history: rec.hist,
             acceleration: rec.accel,
             shock: None,
-        }
+            warnings: Vec::new(),
+        };
+        result.warnings = result.find_warnings();
+        result
     }
 
     /// Satellite `i` (0-based): at its exit from the bars, or at the end of the run.

@@ -157,4 +157,43 @@ pub struct SeparationResult {
     /// The release shock (`separation::shock`), when asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shock: Option<crate::separation::shock::ReleaseShock>,
+    /// What makes this run's numbers untrustworthy (an energy audit that does not close,
+    /// satellites passing through each other), one sentence each.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+}
+
+/// An energy residual above this fraction of the spring energy means the integration did not
+/// conserve energy: the default tolerance keeps it below 1e-6 (docs/separation.md), and the
+/// speeds move by more than a percent well before the audit reaches this.
+pub const MAX_TRUSTED_RESIDUAL: f64 = 1e-3;
+
+impl SeparationResult {
+    /// The run's warnings, from its energy audit and its pair clearances.
+    pub fn find_warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        let r = self.energy.max_relative_residual;
+        if r > MAX_TRUSTED_RESIDUAL {
+            w.push(format!(
+                "the energy audit does not close: its residual reaches {r:.3e} of the spring energy \
+                 (above {MAX_TRUSTED_RESIDUAL:e}; the default tolerance keeps it below 1e-6), so the \
+                 speeds, rates and clearances are not converged; tighten `separation.tolerance`"
+            ));
+        }
+        for p in self
+            .pair_clearances
+            .iter()
+            .filter(|p| p.min_clearance_m < 0.0)
+        {
+            w.push(format!(
+                "satellites {} and {} pass through each other (clearance {:.3} mm): contact \
+                 between satellites is not modelled, so their motion after that is not physical; \
+                 release them further apart in time (`separation.release_interval_s`)",
+                p.upper,
+                p.upper + 1,
+                p.min_clearance_m * 1e3
+            ));
+        }
+        w
+    }
 }
