@@ -215,6 +215,42 @@ fn expanded_model_solves_to_the_same_answer() {
     assert!(s.contains("[[preload]]") && s.contains("[[spring]]") && !s.contains("[stack]"));
 }
 
+/// The expanded reference scene (with `[calibration]`, `[separation]` and the stack's default
+/// response points) loads as it is written: the sections that act on the stack's parameters
+/// are left out with a note, and `sine` gives the same peak at every stack response point
+/// (same model and arithmetic: the printed values, to their 3 decimals, are equal).
+#[test]
+fn the_expanded_reference_scene_loads_and_keeps_its_response_points() {
+    let dir = crate::common::temp_dir("expand-reference");
+    let out = crate::common::satqual()
+        .args(["expand", "test-specs/paper-stack.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("# Left out: [separation], [calibration]"),
+        "{}",
+        &text[..600]
+    );
+    for section in ["[separation]", "[calibration]", "[stack]"] {
+        assert!(!text.contains(&format!("\n{section}")), "{section} written");
+    }
+    let p = dir.join("expanded.toml");
+    std::fs::write(&p, &text).unwrap();
+    let peaks = |scene: &str| {
+        let (code, out, err) = crate::common::run_text(&["sine", scene, "--axis", "x"], None);
+        assert!(code == 0 || code == 1, "{err}");
+        out.lines()
+            .filter(|l| l.contains(" peak "))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    let original = peaks("test-specs/paper-stack.toml");
+    assert!(original.iter().any(|l| l.contains("sat 6")), "{original:?}");
+    assert_eq!(peaks(p.to_str().unwrap()), original);
+}
+
 fn stack_err(from: &str, to: &str) -> String {
     let scene = load("test-specs/shaker-2sat.toml");
     assert!(scene.text.contains(from), "scene lacks {from:?}");
