@@ -111,8 +111,12 @@ fn beyond_band(what: &str, top_hz: Option<f64>, limit: f64, source: &str) -> Ver
         ),
         _ => {
             let top = top_hz.unwrap_or(0.0);
+            let found = match top_hz {
+                Some(t) => format!("no mode with ≥ 10% effective mass up to {t:.4} Hz"),
+                None => "no mode was extracted".to_string(),
+            };
             let name = format!(
-                "first {what} [Hz]: not evaluated, no mode with ≥ 10% effective mass up to {top:.4} Hz; extract more modes ([modal] fmax_hz or modes)"
+                "first {what} [Hz]: not evaluated, {found}; extract more modes ([modal] fmax_hz or modes)"
             );
             Verdict::gate(name, top, limit, -1.0, false, source)
         }
@@ -198,6 +202,13 @@ mod tests {
             &limits,
         );
         assert!(low.iter().all(|g| !g.pass));
+        assert!(low[0].name.contains("up to 8.0000 Hz"), "{}", low[0].name);
+        // No mode extracted at all: said so, not "up to 0 Hz".
+        let none = first_frequencies([None, None, None], Band { top_hz: None, free }, &limits);
+        assert!(
+            none.iter()
+                .all(|g| !g.pass && g.name.contains("no mode was extracted"))
+        );
         assert!(!nothing_evaluated().pass);
     }
 }
