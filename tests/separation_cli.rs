@@ -70,3 +70,17 @@ fn bad_scene_exits_2_with_a_located_message() {
     assert!(o.stdout.is_empty(), "no JSON for a failed run");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The reference run ends with satellites 4 and 5 0.356 m apart and closing at 4.9 mm/s
+/// (docs/separation.md, "Clearance in free flight"): the summary says they will meet, as the
+/// clearance gate of `qualify` does, rather than leave the positive minimum clearance alone.
+#[test]
+fn the_summary_names_a_pair_still_closing_at_the_end() {
+    let (code, out, err) =
+        crate::common::run_text(&["separate", "test-specs/paper-stack.toml"], None);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("satellites 4 and 5 still closing at 4.9 mm/s at the end (0.3564 m apart)"),
+        "{out}"
+    );
+}

@@ -194,6 +194,22 @@ pub(super) fn print(
     if let Some(c) = result.min_clearance_m {
         let _ = writeln!(s, "  minimum inter-satellite clearance {c:.4} m");
     }
+    // The clearance gate projects a pair still closing at the end to touch in free flight.
+    for p in result
+        .pair_clearances
+        .iter()
+        .filter(|p| p.apart_time_s.is_none() && p.closing_speed_m_s > 0.0)
+    {
+        let _ = writeln!(
+            s,
+            "  satellites {} and {} still closing at {:.1} mm/s at the end ({:.4} m apart): they meet in free flight about {:.0} s later",
+            p.upper,
+            p.upper + 1,
+            p.closing_speed_m_s * 1e3,
+            p.final_gap_m,
+            p.final_gap_m.max(0.0) / p.closing_speed_m_s
+        );
+    }
     if let Some(shock) = &result.shock {
         super::separate_shock::summary(&mut s, shock);
     }
