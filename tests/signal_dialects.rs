@@ -961,3 +961,27 @@ fn a_channel_kept_as_it_is_is_reported_in_the_files_unit() {
     }
     assert!(err.contains("band RMS") && !err.contains("Grms"), "{err}");
 }
+
+/// A UFF58 file cut short inside its data block (as a partial download or a head excerpt of
+/// pyuff's `Sample_UFF58_ascii.uff` is): the error says the file ends inside the dataset and
+/// how many of the announced values it holds (13 header lines, then 8 data lines of 6 values:
+/// 48 of 1000).
+#[test]
+fn a_uff58_file_cut_inside_its_data_says_how_much_it_holds() {
+    let full = uff58("Acceleration", "g", 1.0);
+    let cut: String = full
+        .lines()
+        .take(13 + 8)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let p = write("cut.uff", &cut);
+    let (code, _, e) = crate::common::run_text(&["psd", p.to_str().unwrap()], None);
+    assert_eq!(code, 2, "{e}");
+    assert!(
+        e.contains("line 21: dataset 58 is not closed by `-1`")
+            && e.contains(&format!(
+                "after 48 of the {N} values record 7 (line 9) announces"
+            )),
+        "{e}"
+    );
+}

@@ -305,10 +305,19 @@ fn ascii_values(
     loop {
         let line_no = cur.line();
         let Some(l) = cur.next_line() else {
+            let short = if values.len() < need {
+                format!(
+                    ": the file ends inside it, after {} of the {need} values record 7 (line \
+                     {record7_line}) announces; the file is cut short",
+                    values.len()
+                )
+            } else {
+                String::new()
+            };
             return Err(err(
                 file,
                 line_no.saturating_sub(1).max(1),
-                "dataset 58 is not closed by `-1`",
+                format!("dataset 58 is not closed by `-1`{short}"),
             ));
         };
         if l.trim() == "-1" {
