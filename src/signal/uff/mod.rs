@@ -184,7 +184,7 @@ pub fn parse_uff(path: &Path, bytes: &[u8]) -> Result<UffFile, SignalError> {
             &file,
             1,
             format!(
-                "no dataset 58 found ({found}; expected a line `    -1` then `    58` or `    58b`): export the time histories or spectra as UFF58"
+                "no dataset 58 found ({found}; expected a line `    -1` then `    58` or `    58b`): export the time histories, spectra or FRFs as UFF58"
             ),
         ));
     }
