@@ -208,3 +208,29 @@ fn modes_stopping_below_the_excitation_band_are_refused() {
         assert!(code == 0 || code == 1, "{modal} {cmd}: {err}");
     }
 }
+
+/// A `[damping] modes` entry for a mode the model cannot have (mode 5000 of the paper stack's
+/// 692 DOFs) is refused at its line, not dropped without a word.
+#[test]
+fn damping_given_to_a_mode_beyond_the_model_is_refused() {
+    let text = std::fs::read_to_string("test-specs/paper-stack.toml").unwrap();
+    let entry = "{ mode = 22, zeta = 0.275264, direction = \"z\" },";
+    assert!(text.contains(entry));
+    let extra = text.replace(
+        entry,
+        &format!("{entry}\n    {{ mode = 5000, zeta = 0.05 }},"),
+    );
+    let dir = crate::common::temp_dir("resp-damping-beyond");
+    let p = dir.join("beyond.toml");
+    std::fs::write(&p, &extra).unwrap();
+    let (code, _, err) =
+        crate::common::run_text(&["sine", p.to_str().unwrap(), "--axis", "x"], None);
+    assert_eq!(code, 2, "{err}");
+    let line = line_of(&extra, "{ mode = 5000");
+    assert!(
+        err.contains(&format!("beyond.toml:{line}:"))
+            && err.contains("damping.modes[3].mode")
+            && err.contains("mode 5000 does not exist: the model has 692 DOFs"),
+        "{err}"
+    );
+}

@@ -219,6 +219,21 @@ fn an_lvm_file_holding_fewer_rows_than_its_header_announces_is_flagged() {
             && w.contains("announces 8192 samples per channel, but 10 rows follow"),
         "{w}"
     );
+    // The other way round, as LabVIEW's one-header mode writes it (lvm_read's
+    // long_single_header_multi_ch.lvm: `Samples 8192` over 16 384 rows, two records): read
+    // whole, with a note naming the writes, and no warning.
+    let appended = String::from_utf8_lossy(&text).replace("Samples\t10\t10", "Samples\t5\t5");
+    let q = crate::common::temp_dir("lvm-appended").join("appended.lvm");
+    std::fs::write(&q, appended).unwrap();
+    let log = read_log(&q, &IngestOptions::default()).unwrap();
+    assert_eq!(log.data[0].len(), 10);
+    assert!(log.info.ingest.warnings.is_empty());
+    assert!(
+        log.info.ingest.notes.iter().any(|n| n.contains("line 15:")
+            && n.contains("announces 5 samples per channel and 10 rows follow (2 writes of 5")),
+        "{:?}",
+        log.info.ingest.notes
+    );
 }
 
 /// A LabVIEW segment holding channels of two rates (uneven_comments.lvm: 24 channels at

@@ -146,6 +146,16 @@ fn refuse_renumbered_damping(scene: &Scene, sys: &ModalSystem) -> Result<(), Err
     };
     let modes = &sys.result.modes;
     for (i, e) in entries.iter().enumerate() {
+        if e.mode > sys.result.dofs {
+            let msg = format!(
+                "mode {} does not exist: the model has {} DOFs, so at most that many modes",
+                e.mode, sys.result.dofs
+            );
+            return Err(scene
+                .locator()
+                .err(&format!("damping.modes[{i}].mode"), msg)
+                .into());
+        }
         let Some(want) = e.direction.as_deref() else {
             continue;
         };

@@ -54,7 +54,7 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
     })?;
     let layout = file_layout(path, &lines[..file_end])?;
     let segments = segments::read_segments(path, &lines, file_end + 1, &layout)?;
-    let warnings = segments::short_segments(path, &segments, &layout);
+    let (warnings, count_notes) = segments::segment_counts(path, &segments, &layout);
     let count = segments.len();
     let segments::Segment {
         header: segment,
@@ -87,6 +87,7 @@ pub fn read_lvm(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
         )],
         warnings,
     };
+    table.notes.extend(count_notes);
     let fields = ChannelFields {
         samples: per_channel("Samples"),
         units: per_channel("Y_Unit_Label"),

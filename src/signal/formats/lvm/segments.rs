@@ -231,26 +231,49 @@ fn continues(
     ))
 }
 
-/// A segment whose header announces more samples per channel (`Samples`, the fastest
-/// channel's) than rows follow it: the file was cut short, as a copy stopped mid-way leaves it.
-/// The rows present are read; the warning says what is missing.
-pub(super) fn short_segments(path: &Path, segments: &[Segment], layout: &Layout) -> Vec<String> {
-    segments
-        .iter()
-        .filter_map(|seg| {
-            let announced = segment_field(&seg.header, "Samples", layout.x)
-                .iter()
-                .filter_map(|s| s.parse::<usize>().ok())
-                .max()?;
-            let at = seg.header.iter().position(|r| r.first().is_some_and(|k| k == "Samples"));
-            (announced > seg.rows.len()).then(|| {
-                format!(
-                    "{}: line {}: the LVM segment header announces {announced} samples per channel, but {} rows follow: the file ends early (cut short?); the rows present are analysed",
-                    path.display(),
-                    seg.line + at.unwrap_or(0),
-                    seg.rows.len()
-                )
-            })
-        })
-        .collect()
+/// The rows of each segment against the `Samples` its header announces (per channel, the
+/// fastest channel's), as (warnings, notes).
+/// - Fewer rows: the file was cut short, as a copy stopped mid-way leaves it. The rows present
+///   are read; the warning says what is missing.
+/// - More rows: LabVIEW's one-header mode appends later writes under the first header. They
+///   are read as one record; the note says so, since separate records joined this way (two
+///   impacts in one file) would cross the join in every Welch segment.
+pub(super) fn segment_counts(
+    path: &Path,
+    segments: &[Segment],
+    layout: &Layout,
+) -> (Vec<String>, Vec<String>) {
+    let (mut warnings, mut notes) = (Vec::new(), Vec::new());
+    for seg in segments {
+        let Some(announced) = segment_field(&seg.header, "Samples", layout.x)
+            .iter()
+            .filter_map(|s| s.parse::<usize>().ok())
+            .max()
+        else {
+            continue;
+        };
+        let at = seg
+            .header
+            .iter()
+            .position(|r| r.first().is_some_and(|k| k == "Samples"));
+        let line = seg.line + at.unwrap_or(0);
+        let rows = seg.rows.len();
+        if announced > rows {
+            warnings.push(format!(
+                "{}: line {line}: the LVM segment header announces {announced} samples per channel, but {rows} rows follow: the file ends early (cut short?); the rows present are analysed",
+                path.display(),
+            ));
+        } else if announced > 0 && rows > announced {
+            let writes = if rows % announced == 0 {
+                format!("{} writes of {announced}", rows / announced)
+            } else {
+                format!("writes of about {announced}")
+            };
+            notes.push(format!(
+                "{}: line {line}: the LVM segment header announces {announced} samples per channel and {rows} rows follow ({writes} appended under one header): read as one record; if they are separate records, split the file at the joins",
+                path.display(),
+            ));
+        }
+    }
+    (warnings, notes)
 }
