@@ -84,6 +84,19 @@ fn short_columns_with_high_friction_wedge_and_fail_their_own_gate() {
         "{tip_off:?}"
     );
 
+    // `separate` names the wedged satellite and its cause under the table, where its
+    // "final" speed would otherwise read as an exit speed.
+    let dir = crate::common::temp_dir("drawer-separate");
+    let path = dir.join("drawer.toml");
+    std::fs::write(&path, drawer(0.05, 0.3)).unwrap();
+    let (code, out, err) = crate::common::run_text(&["separate", path.to_str().unwrap()], None);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("satellite 1 wedged in the bars: stalled")
+            && out.contains("held by friction (μ = 0.30) at column"),
+        "{out}"
+    );
+
     for (pitch, mu) in [(0.5, 0.3), (0.05, 0.1)] {
         let m = Model::from_scene(&crate::common::parse(&drawer(pitch, mu))).unwrap();
         let r = run(&m, &RunOptions::default()).unwrap();

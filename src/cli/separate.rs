@@ -183,6 +183,14 @@ pub(super) fn print(
         );
     }
     let _ = writeln!(s, "  speeds in m/s, rates in deg/s at bar exit");
+    // A wedged satellite's "final" speed is the one it had when the run ended on the bars.
+    for r in result.satellites.iter().filter(|r| r.wedged) {
+        let why = r.stall.as_ref().map_or_else(
+            || "released and still on them when the run ends".to_string(),
+            |st| st.describe(),
+        );
+        let _ = writeln!(s, "  satellite {} wedged in the bars: {why}", r.index);
+    }
     let _ = writeln!(
         s,
         "  energy residual {:.3e} of the spring energy (max over the run {:.3e}); {} steps, {} RHS evaluations",

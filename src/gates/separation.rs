@@ -10,7 +10,7 @@
 use super::verdict::{MARGIN_CAP, Verdict, above, at_least, design_margin};
 use crate::separation::montecarlo::{MonteCarloResult, TailBound};
 use crate::separation::shock::ReleaseShock;
-use crate::separation::{SatelliteResult, SeparationResult, Stall, order_stats};
+use crate::separation::{SatelliteResult, SeparationResult, order_stats};
 use crate::spec::GatesSpec;
 
 const LIMITS_SOURCE: &str = "[gates] limits; default ASSUMPTION: exit speed ≥ 0.2 m/s and tip-off ≤ 2.5 deg/s, below the paper's measured 0.25–0.35 m/s and its first satellite's accepted 2.47 deg/s (§4, §5.2)";
@@ -188,7 +188,7 @@ pub fn wedging(s: &SatelliteResult, run: &RunLimits) -> Verdict {
     let i = s.index;
     let slowest = s.min_engaged_speed_m_s.unwrap_or(s.final_speed_m_s);
     let name = match (&s.stall, s.wedged) {
-        (Some(st), _) => format!("satellite {i} wedges in the bars: {}", stall_cause(st)),
+        (Some(st), _) => format!("satellite {i} wedges in the bars: {}", st.describe()),
         (None, true) => format!(
             "satellite {i} wedges in the bars: still on them when the run ends at {} s",
             run.max_time_s
@@ -210,34 +210,6 @@ pub fn wedging(s: &SatelliteResult, run: &RunLimits) -> Verdict {
         },
         ..v
     }
-}
-
-/// "stalled 4.21 s after its release, 0.412 m up the bars, held by friction (μ = 0.30) at
-/// column 1 bottom edge 12.3 N, column 3 top edge 11.0 N".
-fn stall_cause(st: &Stall) -> String {
-    let held = if st.loads.is_empty() {
-        "with no bore edge pressed (it stopped between contacts)".to_string()
-    } else {
-        let edges: Vec<String> = st
-            .loads
-            .iter()
-            .map(|l| {
-                format!(
-                    "column {} {} edge {:.1} N",
-                    l.column, l.edge, l.normal_force_n
-                )
-            })
-            .collect();
-        format!(
-            "held by friction (μ = {:.2}) at {}",
-            st.friction,
-            edges.join(", ")
-        )
-    };
-    format!(
-        "stalled {:.2} s after its release, {:.3} m up the bars, {held}",
-        st.time_s, st.travel_m
-    )
 }
 
 /// The smallest gap between consecutive satellites, tracked in free flight until they are

@@ -59,6 +59,36 @@ pub struct Stall {
     pub friction: f64,
 }
 
+impl Stall {
+    /// "stalled 4.21 s after its release, 0.412 m up the bars, held by friction (μ = 0.30) at
+    /// column 1 bottom edge 12.3 N, column 3 top edge 11.0 N".
+    pub fn describe(&self) -> String {
+        let held = if self.loads.is_empty() {
+            "with no bore edge pressed (it stopped between contacts)".to_string()
+        } else {
+            let edges: Vec<String> = self
+                .loads
+                .iter()
+                .map(|l| {
+                    format!(
+                        "column {} {} edge {:.1} N",
+                        l.column, l.edge, l.normal_force_n
+                    )
+                })
+                .collect();
+            format!(
+                "held by friction (μ = {:.2}) at {}",
+                self.friction,
+                edges.join(", ")
+            )
+        };
+        format!(
+            "stalled {:.2} s after its release, {:.3} m up the bars, {held}",
+            self.time_s, self.travel_m
+        )
+    }
+}
+
 /// The normal force of one bore edge on its bar.
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]
 pub struct EdgeLoad {
