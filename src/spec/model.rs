@@ -507,7 +507,7 @@ const HUGE: f64 = 1e30;
 
 /// Positive, finite, not subnormal and at most [`HUGE`]: a NaN fails every comparison, so the
 /// test is written to accept, not to refuse.
-fn positive(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
+pub(super) fn positive(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
     if v.is_normal() && v > 0.0 && v <= HUGE {
         Ok(())
     } else {
@@ -519,7 +519,7 @@ fn positive(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
 }
 
 /// Zero, or positive as [`positive`].
-fn nonneg(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
+pub(super) fn nonneg(loc: &Locator, key: &str, v: f64) -> Result<(), SpecError> {
     if v == 0.0 || (v.is_normal() && v > 0.0 && v <= HUGE) {
         Ok(())
     } else {

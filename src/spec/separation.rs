@@ -8,6 +8,7 @@
 //! reports the dotted key through the scene's [`Locator`].
 
 use super::Locator;
+use super::model::{nonneg, positive};
 use super::stack::StackSpec;
 use crate::error::SpecError;
 use serde::{Deserialize, Serialize};
@@ -514,8 +515,6 @@ pub mod defaults {
     }
 }
 
-/// Checks signs, ranges and references of `[separation]` against `[stack]`. Every error names
-/// the key.
 /// Plausible ranges of the release spring and of the run's length: a stiff spring or a long
 /// stroke makes the integrator take steps for minutes, with no result worth having.
 fn check_spring_and_budget(
@@ -569,6 +568,8 @@ fn check_stiffness_error(loc: &Locator, key: &str, e: f64) -> Result<(), SpecErr
     super::plausible::check(loc, key, e.abs(), super::plausible::STIFFNESS_ERROR)
 }
 
+/// Checks signs, ranges and references of `[separation]` against `[stack]`, section by
+/// section in the order of the scene format. Every error names the key.
 pub fn validate(
     spec: &SeparationSpec,
     stack: &StackSpec,
@@ -576,45 +577,61 @@ pub fn validate(
     loc: &Locator,
 ) -> Result<(), SpecError> {
     let n = stack.satellites;
-    // Finite, not subnormal and at most 1e30: a NaN fails every comparison, so the tests are
-    // written to accept, not to refuse.
-    let sane = |v: f64| v.is_normal() && v > 0.0 && v <= 1e30;
-    let pos = |key: &str, v: f64| -> Result<(), SpecError> {
-        if sane(v) {
-            Ok(())
-        } else {
-            Err(loc.err(
-                key,
-                format!("must be positive, finite, not subnormal and at most 1e30, got {v}"),
-            ))
-        }
-    };
-    let nonneg = |key: &str, v: f64| -> Result<(), SpecError> {
-        if v == 0.0 || sane(v) {
-            Ok(())
-        } else {
-            Err(loc.err(
-                key,
-                format!(
-                    "must not be negative, and finite, not subnormal and at most 1e30, got {v}"
-                ),
-            ))
-        }
-    };
-    // [stack] quantities the release depends on.
+    validate_stack_for_release(spec, stack, loc)?;
+    validate_run_settings(spec, loc)?;
+    validate_springs(spec, n, limits.monte_carlo_runs, loc)?;
+    validate_releases(spec, n, loc)?;
+    validate_contact(&spec.contact, loc)?;
+    validate_carrier(spec, loc)?;
+    validate_dispersion(&spec.dispersion, loc)?;
+    if let Some(sh) = &spec.shock {
+        validate_shock(sh, loc)?;
+    }
+    validate_release_order(spec, n, loc)
+}
+
+/// A relative stiffness error must exceed −1 (a spring of zero or negative stiffness) and stay
+/// plausible.
+fn check_relative_error(loc: &Locator, key: &str, e: f64) -> Result<(), SpecError> {
+    if e <= -1.0 {
+        return Err(loc.err(key, format!("must exceed -1, got {e}")));
+    }
+    check_stiffness_error(loc, key, e)
+}
+
+/// Interface k lies below satellite k: 1..=n.
+fn check_interface(loc: &Locator, key: &str, k: usize, n: usize) -> Result<(), SpecError> {
+    if (1..=n).contains(&k) {
+        Ok(())
+    } else {
+        Err(loc.err(
+            key,
+            format!("interface {k} does not exist: the stack has interfaces 1..={n} (k lies below satellite k)"),
+        ))
+    }
+}
+
+/// The `[stack]` quantities the release depends on: masses, geometry, the stack within the
+/// bars, and a bore at least as wide as its bar.
+fn validate_stack_for_release(
+    spec: &SeparationSpec,
+    stack: &StackSpec,
+    loc: &Locator,
+) -> Result<(), SpecError> {
+    let n = stack.satellites;
     if n == 0 {
         return Err(loc.err("stack.satellites", "must be at least 1"));
     }
-    pos("stack.satellite_mass_kg", stack.satellite_mass_kg)?;
+    positive(loc, "stack.satellite_mass_kg", stack.satellite_mass_kg)?;
     for (j, v) in stack.satellite_inertia_kg_m2.iter().enumerate() {
-        pos(&format!("stack.satellite_inertia_kg_m2[{j}]"), *v)?;
+        positive(loc, &format!("stack.satellite_inertia_kg_m2[{j}]"), *v)?;
     }
-    pos("stack.satellite_pitch_m", stack.satellite_pitch_m)?;
-    pos("stack.bar_length_m", stack.bar_length_m)?;
-    pos("stack.bar_diameter_m", stack.bar_diameter_m)?;
-    pos("stack.column_spacing_m[0]", stack.column_spacing_m[0])?;
-    pos("stack.column_spacing_m[1]", stack.column_spacing_m[1])?;
-    nonneg("stack.base_height_m", stack.base_height_m)?;
+    positive(loc, "stack.satellite_pitch_m", stack.satellite_pitch_m)?;
+    positive(loc, "stack.bar_length_m", stack.bar_length_m)?;
+    positive(loc, "stack.bar_diameter_m", stack.bar_diameter_m)?;
+    positive(loc, "stack.column_spacing_m[0]", stack.column_spacing_m[0])?;
+    positive(loc, "stack.column_spacing_m[1]", stack.column_spacing_m[1])?;
+    nonneg(loc, "stack.base_height_m", stack.base_height_m)?;
     let top = stack.base_height_m + n as f64 * stack.satellite_pitch_m;
     if top > stack.bar_length_m {
         return Err(loc.err(
@@ -626,7 +643,7 @@ pub fn validate(
         ));
     }
     match spec.contact.clearance_m {
-        Some(c) => nonneg("separation.contact.clearance_m", c)?,
+        Some(c) => nonneg(loc, "separation.contact.clearance_m", c)?,
         None => {
             if stack.column_inner_diameter_m < stack.bar_diameter_m {
                 return Err(loc.err(
@@ -640,7 +657,7 @@ pub fn validate(
         }
     }
     if let Some(l) = spec.contact.bore_length_m {
-        pos("separation.contact.bore_length_m", l)?;
+        positive(loc, "separation.contact.bore_length_m", l)?;
         if l > stack.satellite_pitch_m {
             return Err(loc.err(
                 "separation.contact.bore_length_m",
@@ -651,9 +668,17 @@ pub fn validate(
             ));
         }
     }
-    // Timing and integrator.
-    nonneg("separation.unlock_time_s", spec.unlock_time_s)?;
-    nonneg("separation.release_interval_s", spec.release_interval_s)?;
+    Ok(())
+}
+
+/// Timing, integrator and the bars' model.
+fn validate_run_settings(spec: &SeparationSpec, loc: &Locator) -> Result<(), SpecError> {
+    nonneg(loc, "separation.unlock_time_s", spec.unlock_time_s)?;
+    nonneg(
+        loc,
+        "separation.release_interval_s",
+        spec.release_interval_s,
+    )?;
     // Below 1e-12 the step falls to the round-off floor before any progress.
     if !(spec.tolerance >= 1e-12 && spec.tolerance <= 1e-2) {
         return Err(loc.err(
@@ -661,11 +686,15 @@ pub fn validate(
             format!("must lie in [1e-12, 1e-2], got {}", spec.tolerance),
         ));
     }
-    pos("separation.max_step_s", spec.max_step_s)?;
-    pos("separation.max_time_s", spec.max_time_s)?;
-    pos("separation.output_interval_s", spec.output_interval_s)?;
-    nonneg("separation.stall_speed_m_s", spec.stall_speed_m_s)?;
-    nonneg("separation.track_clearance_to_m", spec.track_clearance_to_m)?;
+    positive(loc, "separation.max_step_s", spec.max_step_s)?;
+    positive(loc, "separation.max_time_s", spec.max_time_s)?;
+    positive(loc, "separation.output_interval_s", spec.output_interval_s)?;
+    nonneg(loc, "separation.stall_speed_m_s", spec.stall_speed_m_s)?;
+    nonneg(
+        loc,
+        "separation.track_clearance_to_m",
+        spec.track_clearance_to_m,
+    )?;
     if spec.max_steps == 0 {
         return Err(loc.err("separation.max_steps", "must be at least 1"));
     }
@@ -687,15 +716,24 @@ pub fn validate(
     if spec.bar_elements < 2 {
         return Err(loc.err("separation.bar_elements", "must be at least 2"));
     }
-    nonneg("separation.bar_damping_ratio", spec.bar_damping_ratio)?;
     let key = "separation.bar_damping_ratio";
-    super::plausible::check(loc, key, spec.bar_damping_ratio, super::plausible::BAR_ZETA)?;
-    // Springs.
+    nonneg(loc, key, spec.bar_damping_ratio)?;
+    super::plausible::check(loc, key, spec.bar_damping_ratio, super::plausible::BAR_ZETA)
+}
+
+/// `[separation.spring]` and the per-interface overrides of `[[separation.interface]]`.
+fn validate_springs(
+    spec: &SeparationSpec,
+    n: usize,
+    max_runs: usize,
+    loc: &Locator,
+) -> Result<(), SpecError> {
     let sp = &spec.spring;
-    pos("separation.spring.stiffness_n_m", sp.stiffness_n_m)?;
-    pos("separation.spring.stroke_m", sp.stroke_m)?;
-    check_spring_and_budget(spec, limits.monte_carlo_runs, loc)?;
-    pos(
+    positive(loc, "separation.spring.stiffness_n_m", sp.stiffness_n_m)?;
+    positive(loc, "separation.spring.stroke_m", sp.stroke_m)?;
+    check_spring_and_budget(spec, max_runs, loc)?;
+    positive(
+        loc,
         "separation.spring.installed_length_m",
         sp.installed_length_m,
     )?;
@@ -711,71 +749,55 @@ pub fn validate(
         ));
     }
     for (j, e) in sp.stiffness_error.iter().enumerate() {
-        if *e <= -1.0 {
-            return Err(loc.err(
-                &format!("separation.spring.stiffness_error[{j}]"),
-                format!("must exceed -1, got {e}"),
-            ));
-        }
-        let key = format!("separation.spring.stiffness_error[{j}]");
-        check_stiffness_error(loc, &key, *e)?;
+        check_relative_error(loc, &format!("separation.spring.stiffness_error[{j}]"), *e)?;
     }
-    let iface = |key: String, k: usize| -> Result<(), SpecError> {
-        if (1..=n).contains(&k) {
-            Ok(())
-        } else {
-            Err(loc.err(&key, format!("interface {k} does not exist: the stack has interfaces 1..={n} (k lies below satellite k)")))
-        }
-    };
     for (i, o) in spec.interface.iter().enumerate() {
-        iface(format!("separation.interface[{i}].interface"), o.interface)?;
-        if let Some(s) = o.stroke_m {
-            for (j, v) in s.iter().enumerate() {
-                pos(&format!("separation.interface[{i}].stroke_m[{j}]"), *v)?;
-                let key = format!("separation.interface[{i}].stroke_m[{j}]");
-                super::plausible::check(loc, &key, *v, super::plausible::STROKE_M)?;
-            }
+        let key = |k: &str| format!("separation.interface[{i}].{k}");
+        check_interface(loc, &key("interface"), o.interface, n)?;
+        for (j, v) in o.stroke_m.iter().flatten().enumerate() {
+            let key = key(&format!("stroke_m[{j}]"));
+            positive(loc, &key, *v)?;
+            super::plausible::check(loc, &key, *v, super::plausible::STROKE_M)?;
         }
-        if let Some(e) = o.stiffness_error {
-            for (j, v) in e.iter().enumerate() {
-                if *v <= -1.0 {
-                    return Err(loc.err(
-                        &format!("separation.interface[{i}].stiffness_error[{j}]"),
-                        format!("must exceed -1, got {v}"),
-                    ));
-                }
-                let key = format!("separation.interface[{i}].stiffness_error[{j}]");
-                check_stiffness_error(loc, &key, *v)?;
-            }
+        for (j, v) in o.stiffness_error.iter().flatten().enumerate() {
+            check_relative_error(loc, &key(&format!("stiffness_error[{j}]")), *v)?;
         }
-        if let Some(f) = o.free_length_m {
-            for (j, v) in f.iter().enumerate() {
-                if *v <= sp.installed_length_m {
-                    return Err(loc.err(
-                        &format!("separation.interface[{i}].free_length_m[{j}]"),
-                        format!(
-                            "must exceed the installed length {} m, got {v}",
-                            sp.installed_length_m
-                        ),
-                    ));
-                }
+        for (j, v) in o.free_length_m.iter().flatten().enumerate() {
+            if *v <= sp.installed_length_m {
+                return Err(loc.err(
+                    &key(&format!("free_length_m[{j}]")),
+                    format!(
+                        "must exceed the installed length {} m, got {v}",
+                        sp.installed_length_m
+                    ),
+                ));
             }
         }
     }
+    Ok(())
+}
+
+/// `[[separation.release]]`: existing interfaces, each released once, non-negative delays.
+fn validate_releases(spec: &SeparationSpec, n: usize, loc: &Locator) -> Result<(), SpecError> {
     let mut seen = vec![false; n + 1];
     for (i, r) in spec.release.iter().enumerate() {
-        iface(format!("separation.release[{i}].interface"), r.interface)?;
-        nonneg(&format!("separation.release[{i}].delay_s"), r.delay_s)?;
+        let key = format!("separation.release[{i}].interface");
+        check_interface(loc, &key, r.interface, n)?;
+        nonneg(loc, &format!("separation.release[{i}].delay_s"), r.delay_s)?;
         if std::mem::replace(&mut seen[r.interface], true) {
-            return Err(loc.err(
-                &format!("separation.release[{i}].interface"),
-                format!("interface {} is released twice", r.interface),
-            ));
+            return Err(loc.err(&key, format!("interface {} is released twice", r.interface)));
         }
     }
-    // Contact.
-    let c = &spec.contact;
-    pos("separation.contact.stiffness_n_m1_5", c.stiffness_n_m1_5)?;
+    Ok(())
+}
+
+/// `[separation.contact]`: the Hertz law, restitution, friction and the line contact.
+fn validate_contact(c: &ContactSpec, loc: &Locator) -> Result<(), SpecError> {
+    positive(
+        loc,
+        "separation.contact.stiffness_n_m1_5",
+        c.stiffness_n_m1_5,
+    )?;
     if c.exponent < 1.0 {
         return Err(loc.err(
             "separation.contact.exponent",
@@ -791,89 +813,78 @@ pub fn validate(
             ),
         ));
     }
-    nonneg("separation.contact.friction", c.friction)?;
-    super::plausible::check(
-        loc,
-        "separation.contact.friction",
-        c.friction,
-        super::plausible::CONTACT_FRICTION,
-    )?;
-    nonneg("separation.contact.v0_m_s", c.v0_m_s)?;
+    let key = "separation.contact.friction";
+    nonneg(loc, key, c.friction)?;
+    super::plausible::check(loc, key, c.friction, super::plausible::CONTACT_FRICTION)?;
+    nonneg(loc, "separation.contact.v0_m_s", c.v0_m_s)?;
     if c.v1_m_s <= c.v0_m_s {
         return Err(loc.err(
             "separation.contact.v1_m_s",
             format!("must exceed v0_m_s = {}, got {}", c.v0_m_s, c.v1_m_s),
         ));
     }
-    pos(
-        "separation.contact.min_impact_speed_m_s",
-        c.min_impact_speed_m_s,
-    )?;
-    pos(
-        "separation.contact.line_stiffness_n_m2",
-        c.line_stiffness_n_m2,
-    )?;
+    let key = "separation.contact.min_impact_speed_m_s";
+    positive(loc, key, c.min_impact_speed_m_s)?;
+    let key = "separation.contact.line_stiffness_n_m2";
+    positive(loc, key, c.line_stiffness_n_m2)?;
     if !(1..=MAX_LINE_POINTS).contains(&c.line_points) {
         return Err(loc.err(
             "separation.contact.line_points",
             format!("must lie in 1..={MAX_LINE_POINTS}, got {}", c.line_points),
         ));
     }
-    // Carrier.
-    if let Some(cr) = &spec.carrier {
-        pos("separation.carrier.mass_kg", cr.mass_kg)?;
-        for (j, v) in cr.inertia_kg_m2.iter().enumerate() {
-            pos(&format!("separation.carrier.inertia_kg_m2[{j}]"), *v)?;
-        }
-        if spec.bar_modes.modes().is_some() {
-            return Err(loc.err(
-                "separation.carrier",
-                "a free carrier needs `bar_modes = \"rigid\"`: flexible bars on an accelerating base are not modelled",
-            ));
-        }
+    Ok(())
+}
+
+/// `[separation.carrier]`: a free carrier's mass properties, with rigid bars only.
+fn validate_carrier(spec: &SeparationSpec, loc: &Locator) -> Result<(), SpecError> {
+    let Some(cr) = &spec.carrier else {
+        return Ok(());
+    };
+    positive(loc, "separation.carrier.mass_kg", cr.mass_kg)?;
+    for (j, v) in cr.inertia_kg_m2.iter().enumerate() {
+        positive(loc, &format!("separation.carrier.inertia_kg_m2[{j}]"), *v)?;
     }
-    // Dispersions.
-    let d = &spec.dispersion;
+    if spec.bar_modes.modes().is_some() {
+        return Err(loc.err(
+            "separation.carrier",
+            "a free carrier needs `bar_modes = \"rigid\"`: flexible bars on an accelerating base are not modelled",
+        ));
+    }
+    Ok(())
+}
+
+/// `[separation.dispersion]`: non-negative sigmas and ordered, plausible ranges.
+fn validate_dispersion(d: &DispersionSpec, loc: &Locator) -> Result<(), SpecError> {
+    let key = |k: &str| format!("separation.dispersion.{k}");
     nonneg(
-        "separation.dispersion.spring_stiffness_sigma",
+        loc,
+        &key("spring_stiffness_sigma"),
         d.spring_stiffness_sigma,
     )?;
-    nonneg(
-        "separation.dispersion.cg_offset_sigma_m",
-        d.cg_offset_sigma_m,
-    )?;
-    nonneg(
-        "separation.dispersion.release_skew_sigma_s",
-        d.release_skew_sigma_s,
-    )?;
+    nonneg(loc, &key("cg_offset_sigma_m"), d.cg_offset_sigma_m)?;
+    nonneg(loc, &key("release_skew_sigma_s"), d.release_skew_sigma_s)?;
     if let Some([a, b]) = d.clearance_range_m
         && (a < 0.0 || b < a)
     {
         return Err(loc.err(
-            "separation.dispersion.clearance_range_m",
+            &key("clearance_range_m"),
             format!("needs 0 <= min <= max, got [{a}, {b}]"),
         ));
     }
     if let Some([a, b]) = d.friction_range {
         if a < 0.0 || b < a {
             return Err(loc.err(
-                "separation.dispersion.friction_range",
+                &key("friction_range"),
                 format!("needs 0 <= min <= max, got [{a}, {b}]"),
             ));
         }
         for v in [a, b] {
-            super::plausible::check(
-                loc,
-                "separation.dispersion.friction_range",
-                v,
-                super::plausible::CONTACT_FRICTION,
-            )?;
+            let limits = super::plausible::CONTACT_FRICTION;
+            super::plausible::check(loc, &key("friction_range"), v, limits)?;
         }
     }
-    if let Some(sh) = &spec.shock {
-        validate_shock(sh, loc)?;
-    }
-    validate_release_order(spec, n, loc)
+    Ok(())
 }
 
 /// `[separation.shock]`: the SRS options, the sampling rate above Nyquist of `fmax_hz`, and
