@@ -30,6 +30,9 @@ refused_input_cases! {
     error: err_with;
     negative_psd_level: "profile = [[20.0, 0.1], [2000.0, 0.1]]" => "profile = [[20.0, 0.1], [2000.0, -0.1]]",
         contains ["key `random.profile[1]`", "must be positive"];
+    // A third column (a tolerance, a slope) would be dropped without a word.
+    three_column_profile_row: "profile = [[20.0, 0.1], [2000.0, 0.1]]" => "profile = [[20.0, 0.1, 3.0], [2000.0, 0.1]]",
+        contains ["random.profile[0]", "has 3 entries, but takes 2"];
     negative_sine_level: "acceleration_g = 1.0" => "acceleration_g = -1.0",
         contains ["key `sine.segment[0].acceleration_g`", "the level must be positive, got -1"];
     negative_sine_displacement: "acceleration_g = 1.0" => "displacement_m = -1e-3",

@@ -90,6 +90,13 @@ refused_input_cases! {
         contains ["elements"], at line_of(BASE, "elements = 4");
     malformed_toml_reports_line: "dofs = \"123456\"" => "dofs = \"123456",
         contains ["bad.toml:", "invalid TOML"];
+    // serde fills a fixed-length array from its first entries: a fourth coordinate or a third
+    // beam node would be dropped without a word.
+    extra_coordinate_is_refused: "position_m = [1.0, 0.0, 0.0]" => "position_m = [1.0, 0.0, 0.0, 5.0]",
+        contains ["node[1].position_m", "has 4 entries, but takes 3"],
+        at line_of(BASE, "position_m = [1.0");
+    third_beam_node_is_refused: "nodes = [1, 2]" => "nodes = [1, 2, 99]",
+        contains ["beam[0].nodes", "has 3 entries, but takes 2"], at line_of(BASE, "nodes = [1, 2]");
 }
 
 #[test]

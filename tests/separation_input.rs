@@ -227,3 +227,19 @@ fn satellites_passing_through_each_other_are_flagged() {
         );
     }
 }
+
+/// A history sampled every nanosecond over the default 60 s run would hold 3.6e11 rows (6
+/// satellites × 6e10 samples) and grow without bound: the size is estimated before the run
+/// and refused at the key, with the limit that raises it.
+#[test]
+fn history_interval_too_fine_for_the_run_is_refused_before_it_starts() {
+    let t = paper_text().replace("[separation]\n", "[separation]\noutput_interval_s = 1e-9\n");
+    check(
+        &t,
+        "separation.output_interval_s",
+        "output_interval_s",
+        "3.600e11 history rows, above the limit of 2000000",
+    );
+    let e = spec_error(&t).to_string();
+    assert!(e.contains("limits.history_rows"), "{e}");
+}

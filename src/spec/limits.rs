@@ -14,6 +14,9 @@ pub const MODEL_ELEMENTS: usize = 200_000;
 pub const GRID_POINTS: usize = 2_000_000;
 /// Monte Carlo runs of a release: each run is a full release simulation.
 pub const MONTE_CARLO_RUNS: usize = 100_000;
+/// Rows of a release's histories (samples × satellites): each row is held in memory (88 bytes)
+/// and written as a CSV line (about 200 bytes). The reference scene writes 36 000.
+pub const HISTORY_ROWS: usize = 2_000_000;
 
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -27,6 +30,9 @@ pub struct LimitsSpec {
     /// Most Monte Carlo runs of a release.
     #[serde(default = "monte_carlo_runs")]
     pub monte_carlo_runs: usize,
+    /// Most rows of a release's histories (samples × satellites).
+    #[serde(default = "history_rows")]
+    pub history_rows: usize,
 }
 
 fn model_elements() -> usize {
@@ -38,6 +44,9 @@ fn grid_points() -> usize {
 fn monte_carlo_runs() -> usize {
     MONTE_CARLO_RUNS
 }
+fn history_rows() -> usize {
+    HISTORY_ROWS
+}
 
 impl Default for LimitsSpec {
     fn default() -> Self {
@@ -45,6 +54,7 @@ impl Default for LimitsSpec {
             model_elements: MODEL_ELEMENTS,
             grid_points: GRID_POINTS,
             monte_carlo_runs: MONTE_CARLO_RUNS,
+            history_rows: HISTORY_ROWS,
         }
     }
 }
@@ -56,6 +66,7 @@ impl LimitsSpec {
             ("model_elements", self.model_elements),
             ("grid_points", self.grid_points),
             ("monte_carlo_runs", self.monte_carlo_runs),
+            ("history_rows", self.history_rows),
         ] {
             if v == 0 {
                 return Err(loc.err(&format!("limits.{key}"), "a limit must be at least 1"));

@@ -8,6 +8,7 @@
 //! through a span-preserving `toml_edit` parse of the same text.
 
 pub mod analysis;
+mod array_lengths;
 pub mod calibration;
 pub mod correlation;
 pub mod damping_edit;
@@ -159,6 +160,7 @@ impl Scene {
         let loc = Locator::new(path, text)?;
         loc.check_finite()?;
         let file: SceneFile = toml::from_str(text).map_err(|e| loc.toml_error(&e))?;
+        array_lengths::check(&loc, text, &file)?;
         let limits = file.limits();
         limits.validate(&loc)?;
         if let Some(stack) = &file.stack {

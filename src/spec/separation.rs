@@ -579,6 +579,7 @@ pub fn validate(
     let n = stack.satellites;
     validate_stack_for_release(spec, stack, loc)?;
     validate_run_settings(spec, loc)?;
+    check_history_size(spec, n, limits.history_rows, loc)?;
     validate_springs(spec, n, limits.monte_carlo_runs, loc)?;
     validate_releases(spec, n, loc)?;
     validate_contact(&spec.contact, loc)?;
@@ -719,6 +720,29 @@ fn validate_run_settings(spec: &SeparationSpec, loc: &Locator) -> Result<(), Spe
     let key = "separation.bar_damping_ratio";
     nonneg(loc, key, spec.bar_damping_ratio)?;
     super::plausible::check(loc, key, spec.bar_damping_ratio, super::plausible::BAR_ZETA)
+}
+
+/// The histories sample every satellite every `output_interval_s` up to `max_time_s`: their
+/// size is estimated before the run, as every input-sized allocation is.
+fn check_history_size(
+    spec: &SeparationSpec,
+    n: usize,
+    max_rows: usize,
+    loc: &Locator,
+) -> Result<(), SpecError> {
+    let rows = (spec.max_time_s / spec.output_interval_s + 1.0) * n as f64;
+    if rows > max_rows as f64 {
+        return Err(loc.err(
+            "separation.output_interval_s",
+            format!(
+                "{} s over a run of up to {} s (separation.max_time_s) and {n} satellites makes {rows:.3e} history rows, above the limit of {max_rows}; {}",
+                spec.output_interval_s,
+                spec.max_time_s,
+                super::limits::raise_hint("history_rows")
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// `[separation.spring]` and the per-interface overrides of `[[separation.interface]]`.
