@@ -607,3 +607,62 @@ fn shock_log_above_its_spec_fails_the_gate_and_without_spec_is_refused() {
     assert!(err.contains("kind") && err.contains("[shock]"), "{err}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The test-data scene with `from` replaced by `to` (log paths made absolute), qualified:
+/// (exit code, stderr).
+fn qualify_test_data(name: &str, from: &str, to: &str) -> (Option<i32>, String) {
+    let d = tmp(name);
+    let text = std::fs::read_to_string("test-specs/test-data.toml").unwrap();
+    assert!(text.contains(from), "{from}");
+    let scene = text.replacen(from, to, 1).replace(
+        "../data/realdata/",
+        &format!("{}/data/realdata/", env!("CARGO_MANIFEST_DIR")),
+    );
+    std::fs::write(d.join("scene.toml"), scene).unwrap();
+    let o = qualify(&d.join("scene.toml"), &d.join("report"), None);
+    let _ = std::fs::remove_dir_all(&d);
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// A UFF58 PSD file's control channel is chosen by name like a CSV's: a name the file does not
+/// hold is refused with the names it does, not replaced by its first record. Two references
+/// for one log, or a table out of order, are refused at their key.
+#[test]
+fn test_log_control_and_reference_profile_are_checked_not_guessed() {
+    let (code, err) = qualify_test_data(
+        "control-name",
+        "control = \"Channel 1\"",
+        "control = \"Channel 9\"",
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("key `test_log[0].control`")
+            && err.contains("channel `Channel 9` is not in")
+            && err.contains("(its channels: Channel 1)"),
+        "{err}"
+    );
+    let (code, err) = qualify_test_data(
+        "two-profiles",
+        "control = \"Channel 1\"",
+        "control = \"Channel 1\"\nprofile = \"random\"",
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("test_log[0].profile") && err.contains("give one of them"),
+        "{err}"
+    );
+    let (code, err) = qualify_test_data(
+        "profile-order",
+        "[10.0, 1.45e-4], [25.0",
+        "[30.0, 1.45e-4], [25.0",
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("test_log[0].profile_table[1]")
+            && err.contains("frequencies must increase: 25 Hz follows 30 Hz"),
+        "{err}"
+    );
+}

@@ -31,7 +31,7 @@ pub struct Args {
     #[arg(long)]
     pub profile: Option<PathBuf>,
     /// Channel checked against the profile (default: the first).
-    #[arg(long)]
+    #[arg(long, requires = "profile")]
     pub control: Option<String>,
     #[arg(long, default_value_t = 3.0)]
     pub alarm_db: f64,

@@ -362,7 +362,10 @@ pub fn test_log(scene: &Scene, index: usize, t: &TestLogSpec) -> Result<TestLogP
 /// A random log's reference profile: its own table, or "random" for the scene's `[random]`.
 fn profile(scene: &Scene, t: &TestLogSpec) -> Result<Option<Vec<(f64, f64)>>, String> {
     match (&t.profile, &t.profile_table) {
-        (_, Some(tab)) => Ok(Some(tab.iter().map(|p| (p[0], p[1])).collect())),
+        (Some(p), Some(_)) => Err(format!(
+            "`{p}` and profile_table both name a reference: give one of them"
+        )),
+        (None, Some(tab)) => Ok(Some(tab.iter().map(|p| (p[0], p[1])).collect())),
         (Some(p), None) if p == "random" => match &scene.file.random {
             Some(r) => {
                 let (applied, _) = r.applied(None).map_err(|e| {
@@ -370,7 +373,9 @@ fn profile(scene: &Scene, t: &TestLogSpec) -> Result<Option<Vec<(f64, f64)>>, St
                 })?;
                 Ok(Some(applied.table()))
             }
-            None => Ok(None),
+            None => Err(
+                "`random`: the scene has no [random] section to take the reference from; add it or give profile_table".into(),
+            ),
         },
         (Some(p), None) => Err(format!(
             "`{p}`: use \"random\" (the scene's [random] profile) or give profile_table"

@@ -443,16 +443,15 @@ fn validate_mode_damping(d: &DampingSpec, loc: &Locator) -> Result<(), SpecError
     Ok(())
 }
 
-/// Checks `[random]`: its source, then the explicit profile's points and the duration.
-fn validate_random(r: &RandomSpec, loc: &Locator) -> Result<(), SpecError> {
-    let check_axes = axes_checker(loc);
-    check_axes("random.axes", &r.axes)?;
-    validate_random_source(r, loc)?;
-    if r.environment.is_none() && r.profile.len() < 2 {
-        return Err(loc.err("random.profile", "the profile needs at least two points"));
-    }
-    for (i, p) in r.profile.iter().enumerate() {
-        let k = format!("random.profile[{i}]");
+/// The points `[f_hz, g2_hz]` of a PSD profile at `key`: positive and plausible frequencies and
+/// levels (log-log interpolation), frequencies increasing.
+pub(super) fn validate_psd_points(
+    points: &[[f64; 2]],
+    key: &str,
+    loc: &Locator,
+) -> Result<(), SpecError> {
+    for (i, p) in points.iter().enumerate() {
+        let k = format!("{key}[{i}]");
         if p[0] <= 0.0 {
             return Err(loc.err(&k, format!("frequencies must be positive, got {} Hz", p[0])));
         }
@@ -467,17 +466,29 @@ fn validate_random(r: &RandomSpec, loc: &Locator) -> Result<(), SpecError> {
         }
         plausible::check(loc, &k, p[0], plausible::FREQUENCY_HZ)?;
         plausible::check(loc, &k, p[1], plausible::PSD_G2_HZ)?;
-        if i > 0 && p[0] <= r.profile[i - 1][0] {
+        if i > 0 && p[0] <= points[i - 1][0] {
             return Err(loc.err(
                 &k,
                 format!(
                     "profile frequencies must increase: {} Hz follows {} Hz",
                     p[0],
-                    r.profile[i - 1][0]
+                    points[i - 1][0]
                 ),
             ));
         }
     }
+    Ok(())
+}
+
+/// Checks `[random]`: its source, then the explicit profile's points and the duration.
+fn validate_random(r: &RandomSpec, loc: &Locator) -> Result<(), SpecError> {
+    let check_axes = axes_checker(loc);
+    check_axes("random.axes", &r.axes)?;
+    validate_random_source(r, loc)?;
+    if r.environment.is_none() && r.profile.len() < 2 {
+        return Err(loc.err("random.profile", "the profile needs at least two points"));
+    }
+    validate_psd_points(&r.profile, "random.profile", loc)?;
     if let Some(d) = r.duration_s
         && d <= 0.0
     {

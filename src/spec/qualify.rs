@@ -137,6 +137,13 @@ pub fn validate(gates: &GatesSpec, logs: &[TestLogSpec], loc: &Locator) -> Resul
         if l.file.trim().is_empty() {
             return Err(loc.err(&format!("test_log[{i}].file"), "empty file name"));
         }
+        if let Some(tab) = &l.profile_table {
+            let key = format!("test_log[{i}].profile_table");
+            if tab.len() < 2 {
+                return Err(loc.err(&key, "the profile needs at least two points"));
+            }
+            super::analysis::validate_psd_points(tab, &key, loc)?;
+        }
         if let Some(fs) = l.fs_hz
             && fs <= 0.0
         {

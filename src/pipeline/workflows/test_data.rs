@@ -96,12 +96,16 @@ fn random_log(
         .iter()
         .map(|c| (c.name.clone(), c.grms))
         .collect();
-    let control = match uff {
-        true => run.psd.channels.first(),
-        false => run.psd.channels.iter().find(|c| c.name == log.control),
-    };
+    // A UFF file's channels are named by their records (`Channel 1`, or the record's name).
+    let control = run.psd.channels.iter().find(|c| c.name == log.control);
     let control = control.ok_or_else(|| {
-        let msg = format!("channel `{}` is not in {}", log.control, log.file);
+        let names: Vec<&str> = run.psd.channels.iter().map(|c| c.name.as_str()).collect();
+        let msg = format!(
+            "channel `{}` is not in {} (its channels: {})",
+            log.control,
+            log.file,
+            names.join(", ")
+        );
         loc.err(&format!("test_log[{}].control", log.index), msg)
     })?;
     for c in &run.psd.channels {
