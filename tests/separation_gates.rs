@@ -311,3 +311,52 @@ fn qualify_chooses_the_run_count_from_probability_and_confidence() {
         "{e}"
     );
 }
+
+/// A run that ends while a satellite is still sliding up the bars has not shown its exit:
+/// the result warns with the speed it still had, and its gate names the cause (raise
+/// max_time_s) instead of calling it wedged. One 150 kg satellite on 1.5 m rigid bars leaves
+/// them about 3 s after its release (0.8 m of bore at about 0.3 m/s), so 1 s is too short.
+#[test]
+fn a_run_ended_before_the_exit_says_so_and_a_release_after_it_is_refused() {
+    let m = Model::from_scene(&crate::common::parse(&small_stack(
+        1,
+        1.5,
+        "max_time_s = 1.0\n",
+        "",
+    )))
+    .unwrap();
+    let r = run(&m, &RunOptions::default()).unwrap();
+    let s = &r.satellites[0];
+    assert!(
+        s.exit_time_s.is_none() && s.stall.is_none() && s.wedged,
+        "{s:?}"
+    );
+    assert!(s.final_speed_m_s > 0.1, "{s:?}");
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("satellite 1 is still moving up the bars")
+                && w.contains("raise `separation.max_time_s`")),
+        "{:?}",
+        r.warnings
+    );
+    let g = wedging(s, &limits(&m));
+    assert!(!g.pass, "{g:?}");
+    assert!(
+        g.name
+            .contains("has not left the bars when the run ends at 1 s")
+            && !g.name.contains("wedges"),
+        "{}",
+        g.name
+    );
+    // A release scheduled at or after the end of the run is refused at max_time_s.
+    let text = small_stack(1, 1.5, "max_time_s = 1.0\nunlock_time_s = 2.0\n", "");
+    let e = Model::from_scene(&crate::common::parse(&text))
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        e.contains("key `separation.max_time_s`") && e.contains("interface 1 is released at 2 s"),
+        "{e}"
+    );
+}

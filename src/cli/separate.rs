@@ -185,11 +185,19 @@ pub(super) fn print(
     let _ = writeln!(s, "  speeds in m/s, rates in deg/s at bar exit");
     // A wedged satellite's "final" speed is the one it had when the run ended on the bars.
     for r in result.satellites.iter().filter(|r| r.wedged) {
-        let why = r.stall.as_ref().map_or_else(
-            || "released and still on them when the run ends".to_string(),
-            |st| st.describe(),
-        );
-        let _ = writeln!(s, "  satellite {} wedged in the bars: {why}", r.index);
+        let _ = match &r.stall {
+            Some(st) => writeln!(
+                s,
+                "  satellite {} wedged in the bars: {}",
+                r.index,
+                st.describe()
+            ),
+            None => writeln!(
+                s,
+                "  satellite {} has not left the bars when the run ends (speed {:.4} m/s)",
+                r.index, r.final_speed_m_s
+            ),
+        };
     }
     let _ = writeln!(
         s,

@@ -1025,6 +1025,22 @@ pub fn release_times(spec: &SeparationSpec, n: usize) -> Vec<Option<f64>> {
 /// composite body, which is not modelled. Top-down release always satisfies this.
 fn validate_release_order(spec: &SeparationSpec, n: usize, loc: &Locator) -> Result<(), SpecError> {
     let times = release_times(spec, n);
+    // A release at or after the end of the run leaves its satellite latched: every number
+    // of it would describe a satellite that was never let go.
+    if let Some((k, t)) = times
+        .iter()
+        .enumerate()
+        .filter_map(|(k, t)| t.map(|t| (k, t)))
+        .find(|&(_, t)| t >= spec.max_time_s)
+    {
+        return Err(loc.err(
+            "separation.max_time_s",
+            format!(
+                "the run ends at {} s, but interface {k} is released at {t} s: raise max_time_s above the last release (and its time on the bars) or release earlier",
+                spec.max_time_s
+            ),
+        ));
+    }
     let mut distinct: Vec<f64> = times.iter().flatten().copied().collect();
     distinct.sort_by(f64::total_cmp);
     distinct.dedup();

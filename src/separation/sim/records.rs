@@ -200,7 +200,7 @@ impl Sim<'_> {
             shock: None,
             warnings: Vec::new(),
         };
-        result.warnings = result.find_warnings();
+        result.warnings = result.find_warnings(self.m.stall_speed_m_s, self.m.max_time_s);
         result
     }
 

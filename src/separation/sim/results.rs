@@ -199,9 +199,23 @@ pub struct SeparationResult {
 pub const MAX_TRUSTED_RESIDUAL: f64 = 1e-3;
 
 impl SeparationResult {
-    /// The run's warnings, from its energy audit and its pair clearances.
-    pub fn find_warnings(&self) -> Vec<String> {
+    /// The run's warnings, from its energy audit, its pair clearances and satellites the end
+    /// of the run (`max_time_s`) caught still moving on the bars (faster than `stall_speed`).
+    pub fn find_warnings(&self, stall_speed: f64, max_time_s: f64) -> Vec<String> {
         let mut w = Vec::new();
+        for s in self.satellites.iter().filter(|s| {
+            s.release_time_s.is_some()
+                && s.exit_time_s.is_none()
+                && s.stall.is_none()
+                && s.final_speed_m_s > stall_speed
+        }) {
+            w.push(format!(
+                "satellite {} is still moving up the bars at {:.3} m/s when the run ends at \
+                 max_time_s = {max_time_s} s: its exit speed, tip-off rate and clearances are not \
+                 known; raise `separation.max_time_s`",
+                s.index, s.final_speed_m_s
+            ));
+        }
         let r = self.energy.max_relative_residual;
         if r > MAX_TRUSTED_RESIDUAL {
             w.push(format!(
