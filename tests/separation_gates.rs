@@ -352,8 +352,7 @@ fn a_run_ended_before_the_exit_says_so_and_a_release_after_it_is_refused() {
     // A release scheduled at or after the end of the run is refused at max_time_s.
     let text = small_stack(1, 1.5, "max_time_s = 1.0\nunlock_time_s = 2.0\n", "");
     let e = Model::from_scene(&crate::common::parse(&text))
-        .err()
-        .expect("refused")
+        .expect_err("refused")
         .to_string();
     assert!(
         e.contains("key `separation.max_time_s`") && e.contains("interface 1 is released at 2 s"),
