@@ -23,7 +23,7 @@ pub struct Args {
     /// Scene file (TOML) with [stack] and [separation].
     pub scene: PathBuf,
     /// Number of dispersed Monte Carlo runs (dispersions from [separation.dispersion]).
-    #[arg(long, requires = "seed")]
+    #[arg(long, requires = "seed", value_parser = at_least_one_run)]
     pub monte_carlo: Option<usize>,
     /// Seed of the Monte Carlo streams.
     #[arg(long)]
@@ -62,6 +62,15 @@ pub(super) struct Output<'a> {
     pub(super) result: &'a SeparationResult,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) monte_carlo: Option<&'a separation::MonteCarloResult>,
+}
+
+/// `--monte-carlo 0` would print percentiles of no sample.
+fn at_least_one_run(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(0) => Err("a Monte Carlo needs at least 1 run".into()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(e.to_string()),
+    }
 }
 
 pub fn run(args: Args) -> Result<Outcome, Error> {
@@ -232,7 +241,7 @@ pub(super) fn print(
     if let Some(mc) = mc {
         let _ = writeln!(
             s,
-            "  Monte Carlo {} runs (seed {}): final speed P1 {:.4} P50 {:.4} P99 {:.4} P99.73 {:.4} m/s; tip-off rate P99.73 {:.3} deg/s; min clearance P0.27 {:.4} m",
+            "  Monte Carlo {} runs (seed {}): final speed P1 {:.4} P50 {:.4} P99 {:.4} P99.73 {:.4} m/s; tip-off rate P99.73 {:.3} deg/s; min clearance P0.27 {}",
             mc.runs,
             mc.seed,
             mc.final_speed_m_s.p1.value,
@@ -240,7 +249,10 @@ pub(super) fn print(
             mc.final_speed_m_s.p99.value,
             mc.final_speed_m_s.p99_73.value,
             mc.tip_off_rate_deg_s.p99_73.value,
-            mc.min_clearance_m.p0_27.value
+            mc.min_clearance_m.as_ref().map_or_else(
+                || "n/a (one satellite, no pair)".to_string(),
+                |c| format!("{:.4} m", c.p0_27.value)
+            )
         );
         bounds_line(&mut s, mc);
     }

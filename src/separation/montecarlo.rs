@@ -213,8 +213,9 @@ pub struct MonteCarloResult {
     pub final_speed_m_s: Percentiles,
     pub tip_off_rate_deg_s: Percentiles,
     /// Smallest inter-satellite clearance of each run (0 where a pair still closing at the
-    /// end of the run is projected to touch in free flight).
-    pub min_clearance_m: Percentiles,
+    /// end of the run is projected to touch in free flight); null for a single satellite,
+    /// which has no pair.
+    pub min_clearance_m: Option<Percentiles>,
     /// Tolerance bounds of the per-run worst values, for the gates.
     pub bounds: RunBounds,
     /// Total integrator steps over all runs.
@@ -407,7 +408,7 @@ pub fn aggregate(
         satellites,
         final_speed_m_s: Percentiles::of(&all_speed, runs, c),
         tip_off_rate_deg_s: Percentiles::of(&all_rate, runs, c),
-        min_clearance_m: Percentiles::of(&clear, runs, c),
+        min_clearance_m: (!clear.is_empty()).then(|| Percentiles::of(&clear, runs, c)),
         bounds: run_bounds(demand, results, &clear),
         steps: results.iter().map(|r| r.steps).sum(),
         samples_final_speed_m_s: all_speed,

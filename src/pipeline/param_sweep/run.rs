@@ -156,8 +156,6 @@ fn row(job: &SweepJob, p: usize, runs: &[Realization]) -> Result<SweepPoint, Err
     let limits = scene.file.gates.clone().unwrap_or_default();
     let demand = Demand::of(&Model::from_scene(&scene)?);
     let mc = aggregate(job.seed, job.satellites, demand, runs);
-    let has_pairs = !mc.samples_min_clearance_m.is_empty();
-    // Without a pair of satellites there is no clearance, and no bound of it to gate.
     let gates = gates::separation::monte_carlo(&mc, &limits);
     Ok(SweepPoint {
         point: p,
@@ -165,7 +163,7 @@ fn row(job: &SweepJob, p: usize, runs: &[Realization]) -> Result<SweepPoint, Err
         runs: mc.runs,
         final_speed_m_s: mc.final_speed_m_s,
         tip_off_rate_deg_s: mc.tip_off_rate_deg_s,
-        min_clearance_m: has_pairs.then_some(mc.min_clearance_m),
+        min_clearance_m: mc.min_clearance_m,
         steps: mc.steps,
         pass: gates.iter().all(|g| g.pass),
         gates,

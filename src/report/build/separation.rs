@@ -60,11 +60,13 @@ fn percentiles(mc: &MonteCarloResult) -> Table {
     let mut t = Table::new(vec![Column::left("quantity")]);
     t.columns
         .extend(["P0.27", "P1", "P50", "P99", "P99.73"].map(Column::right));
-    for (name, p) in [
-        ("exit speed [m/s]", &mc.final_speed_m_s),
-        ("tip-off rate [deg/s]", &mc.tip_off_rate_deg_s),
-        ("min. clearance [m]", &mc.min_clearance_m),
-    ] {
+    let rows = [
+        ("exit speed [m/s]", Some(&mc.final_speed_m_s)),
+        ("tip-off rate [deg/s]", Some(&mc.tip_off_rate_deg_s)),
+        ("min. clearance [m]", mc.min_clearance_m.as_ref()),
+    ];
+    // A single satellite has no pair, hence no clearance row.
+    for (name, p) in rows.into_iter().filter_map(|(n, p)| p.map(|p| (n, p))) {
         let mut cells = vec![name.to_string()];
         cells.extend([&p.p0_27, &p.p1, &p.p50, &p.p99, &p.p99_73].map(with_interval));
         t.row(cells);
