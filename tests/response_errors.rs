@@ -54,6 +54,9 @@ refused_input_cases! {
     unknown_damping_key: "[damping]" => "[damping]\nqq = 3.0", contains ["unknown field `qq`"];
     unknown_axis: "axes = [\"x\"]" => "axes = [\"w\"]",
         contains ["key `sine.axes[0]`", "unknown axis `w`"];
+    // The same axis twice would run (and report) its sweep twice.
+    axis_listed_twice: "axes = [\"x\"]" => "axes = [\"x\", \"x\"]",
+        contains ["sine.axes[1]", "axis `x` is listed twice"];
     fitting_factor_below_one: "[[response]]" => "[margins]\nfitting_factor = 0.9\n\n[[response]]",
         contains ["key `margins.fitting_factor`", "at least 1"];
     preload_loss_above_one: "[[response]]" => "[margins]\npreload_loss = 1.5\n\n[[response]]",

@@ -243,3 +243,18 @@ fn history_interval_too_fine_for_the_run_is_refused_before_it_starts() {
     let e = spec_error(&t).to_string();
     assert!(e.contains("limits.history_rows"), "{e}");
 }
+
+/// Two `[[separation.interface]]` entries for one interface: one would silently win.
+#[test]
+fn an_interface_given_twice_is_refused() {
+    let t = paper_text()
+        + "\n[[separation.interface]]\ninterface = 2\nstroke_m = [0.08, 0.08, 0.08, 0.08]\n\
+           \n[[separation.interface]]\ninterface = 2\nstroke_m = [0.07, 0.07, 0.07, 0.07]\n";
+    let e = spec_error(&t);
+    assert_eq!(e.key, "separation.interface[1].interface", "{e}");
+    assert!(
+        e.to_string()
+            .contains("interface 2 has two [[separation.interface]] entries"),
+        "{e}"
+    );
+}

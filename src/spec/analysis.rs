@@ -513,6 +513,12 @@ fn axes_checker(loc: &Locator) -> impl Fn(&str, &[String]) -> Result<(), SpecErr
                     format!("unknown axis `{a}`: use x, y or z"),
                 ));
             }
+            if axes[..i].iter().any(|b| axis_index(b) == axis_index(a)) {
+                return Err(loc.err(
+                    &format!("{key}[{i}]"),
+                    format!("axis `{a}` is listed twice"),
+                ));
+            }
         }
         Ok(())
     }

@@ -778,6 +778,18 @@ fn validate_springs(
     for (i, o) in spec.interface.iter().enumerate() {
         let key = |k: &str| format!("separation.interface[{i}].{k}");
         check_interface(loc, &key("interface"), o.interface, n)?;
+        if spec.interface[..i]
+            .iter()
+            .any(|p| p.interface == o.interface)
+        {
+            return Err(loc.err(
+                &key("interface"),
+                format!(
+                    "interface {} has two [[separation.interface]] entries: give its springs once",
+                    o.interface
+                ),
+            ));
+        }
         for (j, v) in o.stroke_m.iter().flatten().enumerate() {
             let key = key(&format!("stroke_m[{j}]"));
             positive(loc, &key, *v)?;
