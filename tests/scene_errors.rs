@@ -68,6 +68,8 @@ refused_input_cases! {
         contains ["node[1].id", "duplicate node id 1"], at line_of(BASE, "id = 2");
     non_positive_modulus: "youngs_modulus_pa = 210e9" => "youngs_modulus_pa = 0.0",
         contains ["material[0].youngs_modulus_pa", "must be positive"];
+    ultimate_below_yield: "density_kg_m3 = 7850" => "density_kg_m3 = 7850\nyield_strength_pa = 835e6\nultimate_strength_pa = 100e6",
+        contains ["material[0].ultimate_strength_pa", "is below the yield strength"];
     negative_density: "density_kg_m3 = 7850" => "density_kg_m3 = -1.0",
         contains ["material[0].density_kg_m3"];
     negative_dimension: "width_m = 0.02" => "width_m = -0.02",

@@ -283,10 +283,30 @@ fn skipped(scene: &Scene) -> Result<Vec<Skipped>, Error> {
         Some((_, Some(why))) => out.push(Skipped::new("separation Monte Carlo", why)),
         Some(_) => {}
     }
+    if let Some(why) = bar_strength_skipped(scene) {
+        out.push(Skipped::new("bar strength", why));
+    }
     if f.test_log.is_empty() {
         out.push(Skipped::new("test data", "the scene lists no [[test_log]]"));
     }
     Ok(out)
+}
+
+/// The guide bars' strength is gated from the responses against their material's yield and
+/// ultimate strengths: without either, the gates cannot be made and the report says so.
+fn bar_strength_skipped(scene: &Scene) -> Option<String> {
+    let f = &scene.file;
+    let stack = f.stack.as_ref()?;
+    if f.sine.is_none() && f.random.is_none() {
+        return None;
+    }
+    let m = f.material.iter().find(|m| m.name == stack.bar_material)?;
+    (m.yield_strength_pa.is_none() && m.ultimate_strength_pa.is_none()).then(|| {
+        format!(
+            "the guide-bar material `{}` gives no yield_strength_pa or ultimate_strength_pa",
+            m.name
+        )
+    })
 }
 
 /// Every `[[test_log]]`, resolved; a signature needs both its before and its after log.
@@ -512,6 +532,27 @@ acceleration_g = 0.3
             plan.skipped[0].reason,
             "the scene has no [modal] or [stack] section"
         );
+    }
+
+    /// A stack whose guide-bar material has neither strength gives no bar-strength gates: the
+    /// plan lists them as skipped with the material's name instead of dropping them unseen.
+    #[test]
+    fn bar_strength_without_a_bar_strength_is_listed_as_skipped() {
+        let sine = "[sine]\naxes = [\"x\"]\n[[sine.segment]]\nfrom_hz = 5.0\nto_hz = 100.0\nacceleration_g = 0.3\n";
+        let text = crate::catalogue::generated::small_stack(1, 1.5, "", sine);
+        let plan = Plan::resolve(&scene(&text)).unwrap();
+        let s = plan.skipped.iter().find(|s| s.analysis == "bar strength");
+        assert!(
+            s.is_some_and(|s| s.reason.contains("`steel` gives no yield_strength_pa")),
+            "{:?}",
+            plan.skipped
+        );
+        let strong = text.replace(
+            "density_kg_m3 = 7850\n",
+            "density_kg_m3 = 7850\nyield_strength_pa = 835e6\n",
+        );
+        let plan = Plan::resolve(&scene(&strong)).unwrap();
+        assert!(!analyses(&plan.skipped).contains(&"bar strength"));
     }
 
     #[test]

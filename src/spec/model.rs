@@ -264,6 +264,14 @@ pub fn validate(f: &super::SceneFile, loc: &Locator) -> Result<(), SpecError> {
         if let Some(v) = m.ultimate_strength_pa {
             plausible::check(loc, &k("ultimate_strength_pa"), v, plausible::STRENGTH_PA)?;
         }
+        if let (Some(fy), Some(fu)) = (m.yield_strength_pa, m.ultimate_strength_pa)
+            && fu < fy
+        {
+            return Err(loc.err(
+                &k("ultimate_strength_pa"),
+                format!("{fu} Pa is below the yield strength {fy} Pa: the two are swapped or one is mistyped"),
+            ));
+        }
     }
     let mut sections = HashSet::new();
     for (i, s) in f.section.iter().enumerate() {
