@@ -54,6 +54,9 @@ refused_input_cases! {
     unknown_damping_key: "[damping]" => "[damping]\nqq = 3.0", contains ["unknown field `qq`"];
     unknown_axis: "axes = [\"x\"]" => "axes = [\"w\"]",
         contains ["key `sine.axes[0]`", "unknown axis `w`"];
+    // Limit-level segments are multiplied by the level's factor: without a level there is none.
+    limit_basis_without_level: "axes = [\"x\"]" => "axes = [\"x\"]\nbasis = \"limit\"",
+        contains ["sine.basis", "limit-level segments need `level`"];
     // The same axis twice would run (and report) its sweep twice.
     axis_listed_twice: "axes = [\"x\"]" => "axes = [\"x\", \"x\"]",
         contains ["sine.axes[1]", "axis `x` is listed twice"];

@@ -596,6 +596,12 @@ pub fn validate(
     let check_axes = axes_checker(loc);
     if let Some(s) = &file.sine {
         check_axes("sine.axes", &s.axes)?;
+        if s.basis == Some(super::environment::SineBasis::Limit) && s.level.is_none() {
+            return Err(loc.err(
+                "sine.basis",
+                "limit-level segments need `level` (qualification, protoflight or acceptance), which sets the factor applied to them",
+            ));
+        }
         if let Some(r) = s.sweep_rate_oct_min
             && !(r > 0.0 && r.is_finite())
         {
