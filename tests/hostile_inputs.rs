@@ -211,11 +211,13 @@ fn separation_out_of_steps_names_the_key_and_the_stiffest_element() {
     let dir = temp_dir("hostile-steps");
     let f = dir.join("steps.toml");
     let text = paper_stack().replacen("tolerance = 1e-6", "tolerance = 1e-6\nmax_steps = 500", 1);
-    std::fs::write(&f, text).unwrap();
+    std::fs::write(&f, &text).unwrap();
     let (code, _, err) = run_text(&["separate", f.to_str().unwrap(), "--json"], None);
     assert_eq!(code, 2, "{err}");
+    let line = crate::common::line_of(&text, "max_steps = 500");
     assert!(
-        err.contains("key `separation.max_steps`")
+        err.contains(&format!("steps.toml:{line}:"))
+            && err.contains("key `separation.max_steps`")
             && err.contains("the stiffest element is the contact")
             && err.contains("contact time of about 4.851e-3 s"),
         "{err}"

@@ -1,7 +1,7 @@
 //! The separation workflow: the release model of a scene, its nominal run and, when planned,
 //! a seeded Monte Carlo of dispersed runs.
 
-use crate::error::Error;
+use crate::error::{Error, SeparationError};
 use crate::pipeline::Progress;
 use crate::pipeline::plan::MonteCarloPlan;
 use crate::separation::{self, Model, MonteCarloResult, RunOptions, SeparationResult};
@@ -62,7 +62,7 @@ pub fn run(
                 .transpose()
         },
     );
-    let mut result = nominal?;
+    let mut result = nominal.map_err(|e| located(scene, e))?;
     if let Some(spec) = &shock_spec {
         progress.stage("release shock");
         result.shock = Some(separation::shock::release_shock(&model, &result, spec)?);
@@ -73,4 +73,19 @@ pub fn run(
         result,
         monte_carlo,
     })
+}
+
+/// A run that ran out of its step budget, or whose step fell to round-off, names the key to
+/// change; located in the scene like any scene error (file, line, key).
+fn located(scene: &Scene, e: SeparationError) -> Error {
+    let key = match &e {
+        SeparationError::TooManySteps { .. } => "separation.max_steps",
+        SeparationError::StepTooSmall { .. } => "separation.tolerance",
+        _ => return e.into(),
+    };
+    let text = e.to_string();
+    let message = text
+        .strip_prefix(&format!("key `{key}`: "))
+        .unwrap_or(&text);
+    Error::Spec(scene.locator().err(key, message))
 }
