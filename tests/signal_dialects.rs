@@ -985,3 +985,49 @@ fn a_uff58_file_cut_inside_its_data_says_how_much_it_holds() {
         "{e}"
     );
 }
+
+/// Runs `psd --json` on `p` and returns the JSON; panics with stderr on failure.
+fn psd_json(p: &std::path::Path) -> serde_json::Value {
+    let (code, out, err) = crate::common::run_text(
+        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    serde_json::from_str(&out).unwrap()
+}
+
+/// Runs `psd` on `p`, which must fail, and returns stderr.
+fn psd_fails(p: &std::path::Path) -> String {
+    let (code, _, err) = crate::common::run_text(&["psd", p.to_str().unwrap()], None);
+    assert_eq!(code, 2, "{err}");
+    err
+}
+
+/// The abscissa's units label (record 8) gives its unit: the same 1000 Hz time history with
+/// its increment written in ms (`1.00000E+00` ms) reads at 1000 Hz, not 1 Hz. A label that
+/// is no time or frequency unit is refused at record 8's line (line 10), never taken as s.
+#[test]
+fn uff58_abscissa_in_ms_is_converted_and_an_unknown_unit_refused() {
+    let seconds = uff58("Acceleration", "g", 1.0);
+    let in_ms = seconds
+        .replace(
+            "        17    0    0    0 Time                 s                   \n",
+            "        17    0    0    0 Time                 ms                  \n",
+        )
+        .replace("1.00000E-03", "1.00000E+00");
+    assert_ne!(in_ms, seconds);
+    let v = psd_json(&write("x-ms.uff", &in_ms));
+    // By construction: 1 ms steps, 1000 Hz, exactly representable in the E13.5 field.
+    assert_eq!(v["fs_hz"].as_f64(), Some(FS));
+    let rms = v["channels"][0]["rms"].as_f64().unwrap();
+    let want = 2.0 / 2f64.sqrt();
+    assert!((rms - want).abs() < want * 1e-5, "{rms}");
+    let odd = in_ms.replace(" ms                  \n", " furlong             \n");
+    let e = psd_fails(&write("x-furlong.uff", &odd));
+    assert!(
+        e.contains(
+            "x-furlong.uff: line 10: record 8 (the abscissa) gives the units label `furlong`"
+        ),
+        "{e}"
+    );
+}

@@ -46,10 +46,14 @@ pub struct UffRecord {
     pub ordinate_type: i64,
     /// The ordinate's units label (record 9), e.g. `m/s2`, `g`, `Pa`.
     pub ordinate_label: String,
+    /// Record 8; its units label (`ms`, `kHz`) is kept as written, the abscissa below is
+    /// converted from it.
     pub abscissa_axis: AxisInfo,
     pub ordinate_axis: AxisInfo,
     /// The ordinate denominator (record 10), e.g. the force of an FRF.
     pub denominator_axis: AxisInfo,
+    /// The abscissa in seconds (a time axis) or hertz (a frequency axis), converted from the
+    /// units label of record 8 (`ms`, `min`, `kHz`); as written when that label is `NONE`.
     pub abscissa: Vec<f64>,
     /// Real part (or the value of a real record).
     pub re: Vec<f64>,
@@ -269,7 +273,12 @@ fn parse_record(
         None => ascii_values(file, cur, need, r7.points, line_of(6))?,
         Some(layout) => binary_values(file, cur, need, &r7, layout, marker)?,
     };
-    let (abscissa, re, im) = split_points(&values, &r7, complex);
+    let (mut abscissa, re, im) = split_points(&values, &r7, complex);
+    // The abscissa is kept in seconds (time) or hertz (frequency), whatever record 8 wrote.
+    let scale = abscissa_scale(file, line_of(7), &abscissa_axis)?;
+    if scale != 1.0 {
+        abscissa.iter_mut().for_each(|x| *x *= scale);
+    }
     if !r7.even && abscissa.windows(2).any(|w| w[1] <= w[0]) {
         return Err(err(file, marker, "the abscissa does not increase"));
     }
@@ -289,6 +298,40 @@ fn parse_record(
         im,
         even_spacing: r7.even,
     })
+}
+
+/// Seconds (time) or hertz (frequency) per unit of the abscissa's units label (record 8):
+/// s, ms, µs, ns, min, h, or Hz, kHz; 1 when the label is `NONE` or blank (the SDRC default,
+/// seconds or hertz). A label that is none of these is refused, never taken as seconds: a
+/// time axis in `ms` read as seconds puts every frequency 1000 times too low.
+fn abscissa_scale(file: &Path, line: u64, axis: &AxisInfo) -> Result<f64, SignalError> {
+    let label = axis.unit.trim();
+    if label.is_empty() {
+        return Ok(1.0);
+    }
+    let scale = match label.to_lowercase().as_str() {
+        "s" | "sec" | "secs" | "second" | "seconds" => 1.0,
+        "ms" | "msec" | "msecs" | "millisecond" | "milliseconds" => 1e-3,
+        "us" | "µs" | "μs" | "usec" | "usecs" | "microsecond" | "microseconds" => 1e-6,
+        "ns" | "nsec" | "nanosecond" | "nanoseconds" => 1e-9,
+        "min" | "mins" | "minute" | "minutes" => 60.0,
+        "h" | "hr" | "hrs" | "hour" | "hours" => 3600.0,
+        "hz" | "1/s" => 1.0,
+        "khz" => 1e3,
+        _ => {
+            return Err(err(
+                file,
+                line,
+                format!(
+                    "record 8 (the abscissa) gives the units label `{label}`, which is not a \
+                     time unit (s, ms, us, ns, min, h) or a frequency unit (Hz, kHz): the \
+                     abscissa is not read as seconds on a guess; export the record with its \
+                     abscissa in one of these units"
+                ),
+            ));
+        }
+    };
+    Ok(scale)
 }
 
 /// ASCII data: numbers up to the closing `-1`, exactly `need` of them.
