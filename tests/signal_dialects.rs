@@ -1031,3 +1031,19 @@ fn uff58_abscissa_in_ms_is_converted_and_an_unknown_unit_refused() {
         "{e}"
     );
 }
+
+/// A time history of complex values (ordinate data type 5) is refused at record 7's line,
+/// never read as its real part.
+#[test]
+fn uff58_complex_time_history_is_refused() {
+    let text = uff58("Acceleration", "g", 1.0).replace(
+        &format!("         2{N:10}         1 "),
+        &format!("         5{N:10}         1 "),
+    );
+    let e = psd_fails(&write("complex-time.uff", &text));
+    assert!(
+        e.contains("complex-time.uff: line 9: the record at line 2 is a time history (record 6 function type 1) with complex values (record 7 ordinate data type 5)"),
+        "{e}"
+    );
+    assert!(e.contains("export it as real values"), "{e}");
+}

@@ -263,6 +263,20 @@ fn parse_record(
         id4
     };
     let complex = matches!(r7.ordinate_type, 5 | 6);
+    if complex && r6.function_type == 1 {
+        // Keeping the real part alone would drop half of what was written without a word.
+        return Err(err(
+            file,
+            line_of(6),
+            format!(
+                "the record at line {marker} is a time history (record 6 function type 1) with \
+                 complex values (record 7 ordinate data type {}): a measured time history is \
+                 real, and which part of a complex one is the signal is not defined; export it \
+                 as real values (ordinate data type 2, single, or 4, double)",
+                r7.ordinate_type
+            ),
+        ));
+    }
     // Values per point in the data block.
     let per_point = usize::from(!r7.even) + if complex { 2 } else { 1 };
     let need = r7
