@@ -1047,3 +1047,42 @@ fn uff58_complex_time_history_is_refused() {
     );
     assert!(e.contains("export it as real values"), "{e}");
 }
+
+/// Siglent oscilloscope CSV: `Second` names the time column (bin2csv writes `Second,Volt`
+/// under its preamble), and the SDS2000X+'s last preamble line `Software Version,1.3.7R5,`
+/// is not the header over a units row `Second,Value`. Rows: the 1000 Hz sine of this file,
+/// times from -0.5 s.
+#[test]
+fn siglent_csv_second_is_time_and_preamble_is_not_a_header() {
+    let bin2csv = format!(
+        "Record Length,Analog:{N}\nSample Rate,1000.0\nVertical Scale,CH1: 0.50\n\
+         Vertical Offset,CH1:0.00000\nHorizontal Scale, 0.050000000\nSecond,Volt\n{}",
+        rows(",", 1.0, -0.5, false)
+    );
+    let sds = format!(
+        "Record Length,Analog:{N},\nSample Interval,Analog:1.000000E-03,\nVertical Units,CH3:V,,\n\
+         Vertical Scale,CH3:5.00E-01,,\nVertical Offset,CH3:0.00E+00,,\nHorizontal Units,S,\n\
+         Horizontal Scale,5.00E-02,\nModel Number,SDS2104X Plus,\nSerial Number,SDS2PDD1234567,\n\
+         Software Version,1.3.7R5,\nSecond,Value\n{}",
+        rows(",", 1.0, -0.5, false)
+    );
+    for (name, text, channel) in [
+        ("siglent-bin2csv.csv", bin2csv, "Volt"),
+        ("siglent-sds2000xp.csv", sds, "Value"),
+    ] {
+        let v = psd_json(&write(name, &text));
+        let channels = v["channels"].as_array().unwrap();
+        assert_eq!(channels.len(), 1, "{name}: {v}");
+        assert_eq!(channels[0]["name"], channel, "{name}");
+        assert_eq!(
+            v["ingest"]["time_column"], "Second",
+            "{name}: {}",
+            v["ingest"]
+        );
+        let fs = v["fs_hz"].as_f64().unwrap();
+        assert!((fs - FS).abs() < FS * 1e-9, "{name}: {fs}");
+        let rms = channels[0]["rms"].as_f64().unwrap();
+        let want = 2.0 / 2f64.sqrt();
+        assert!((rms - want).abs() < want * 1e-6, "{name}: {rms}");
+    }
+}

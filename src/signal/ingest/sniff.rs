@@ -324,11 +324,40 @@ fn header_above(
             && !states_rate
             && let Some(upper) = fits(prev).or_else(|| numbered_names(lines[prev].1, d, width))
             && looks_like_units(&lower)
+            && !(fits(prev).is_some() && preamble_pair(lines, above, &upper, &lower, d))
         {
             return Some((Some(upper), Some(prev), Some(lower)));
         }
     }
     Some((Some(lower), Some(last), None))
+}
+
+/// Whether the line above a header-like `lower` row is the last of a preamble's key/value
+/// lines rather than a header over a units row: `lower` names a time column (`Second`,
+/// `Time`) while `upper` names none, and the line above `upper` is split into as many fields
+/// as `upper` (one more `key,value` line of the block). A Siglent SDS2000X+ export ends its
+/// preamble with `Software Version,1.3.7R5,` right above its `Second,Value` header.
+fn preamble_pair(
+    lines: &[(usize, &str)],
+    above: &[usize],
+    upper: &[String],
+    lower: &[String],
+    d: Delimiter,
+) -> bool {
+    let time_named = |row: &[String]| row.iter().any(|c| super::is_time_column(c));
+    if !time_named(lower) || time_named(upper) || above.len() < 3 {
+        return false;
+    }
+    let trimmed = |line: &str| {
+        let mut f = split_fields(line, d);
+        while f.last().is_some_and(|c| c.trim().is_empty()) {
+            f.pop();
+        }
+        f.len()
+    };
+    let key_value = above[above.len() - 3];
+    let prev = above[above.len() - 2];
+    key_value + 1 == prev && trimmed(lines[key_value].1) == trimmed(lines[prev].1)
 }
 
 /// A header above a units row whose channels are numbered (an oscilloscope's `x-axis,1,2`

@@ -68,12 +68,13 @@ impl TimeUnit {
 }
 
 /// Words that name a time column (`zeit`: German exports, catman's and Dewesoft's included).
-const TIME_WORDS: [&str; 11] = [
+const TIME_WORDS: [&str; 12] = [
     "t",
     "time",
     "times",
     "timestamp",
     "x_value",
+    "second",
     "seconds",
     "sec",
     "epoch",
@@ -99,7 +100,7 @@ pub fn time_column_unit(name: &str) -> Option<Option<TimeUnit>> {
         return (TIME_WORDS.contains(&base) || numbered_time(base)).then_some(Some(unit));
     }
     if TIME_WORDS.contains(&base) {
-        let stated = matches!(base, "seconds" | "sec").then_some(TimeUnit::S);
+        let stated = matches!(base, "second" | "seconds" | "sec").then_some(TimeUnit::S);
         return Some(stated);
     }
     if numbered_time(base) {
