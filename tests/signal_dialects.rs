@@ -1048,6 +1048,56 @@ fn uff58_complex_time_history_is_refused() {
     assert!(e.contains("export it as real values"), "{e}");
 }
 
+/// An uneven abscissa (record 7 spacing 0) written as pyuff writes it, `%13.5e` (six digits):
+/// a 2048 Hz time history's x values are rounded to 1e-9 s and less, so its steps differ by
+/// rounding only and it is evenly spaced. A real gap is refused naming the point and the
+/// size of the deviation.
+#[test]
+fn uff58_uneven_abscissa_rounded_to_six_digits_is_uniform() {
+    let n = 2048;
+    let fs = 2048.0;
+    let record = |shift_at: Option<usize>| {
+        let mut s = String::from("    -1\n    58\nacc1\nNONE\nNONE\nacc1\nNONE\n");
+        s.push_str(
+            "    1         0    0         0       acc1         1   3       NONE         0   0\n",
+        );
+        s.push_str(&format!(
+            "         4{n:10}         0  0.00000e+00  0.00000e+00  0.00000e+00\n"
+        ));
+        s.push_str("        17    0    0    0 NONE                 s                   \n");
+        s.push_str("        12    0    0    0 NONE                 g                   \n");
+        s.push_str("         0    0    0    0 NONE                 NONE                \n");
+        s.push_str("         0    0    0    0 NONE                 NONE                \n");
+        for i in 0..n {
+            let t = i as f64 / fs + if shift_at == Some(i) { 1e-4 } else { 0.0 };
+            // By construction: 64 Hz sine of amplitude 2, 64 whole periods in 2048 samples.
+            let y = 2.0 * (2.0 * std::f64::consts::PI * 64.0 * i as f64 / fs).sin();
+            s.push_str(&format!("{t:13.5e}{y:20.11e}"));
+            if i % 2 == 1 {
+                s.push('\n');
+            }
+        }
+        s.push_str("    -1\n");
+        // Rust writes `4.88281e-4`; pyuff (C printf) `4.88281e-04`: both are 6 digits.
+        s
+    };
+    let v = psd_json(&write("uneven-6digits.uff", &record(None)));
+    let fs_read = v["fs_hz"].as_f64().unwrap();
+    // The mean step comes from the last x, 9.99512e-01 for 2047/2048 s: 2048 Hz to its 6
+    // digits (5e-7 relative).
+    assert!((fs_read - fs).abs() < fs * 5e-7, "{fs_read}");
+    let rms = v["channels"][0]["rms"].as_f64().unwrap();
+    let want = 2.0 / 2f64.sqrt();
+    assert!((rms - want).abs() < want * 1e-9, "{rms}");
+    // Point 1001 (index 1000) moved 0.1 ms late: a fifth of a step, not rounding.
+    let e = psd_fails(&write("uneven-gap.uff", &record(Some(1000))));
+    assert!(
+        e.contains("uneven-gap.uff: line 2: the abscissa is not evenly spaced: the step from point 1000 (x = "),
+        "{e}"
+    );
+    assert!(e.contains("off the mean step"), "{e}");
+}
+
 /// Siglent oscilloscope CSV: `Second` names the time column (bin2csv writes `Second,Volt`
 /// under its preamble), and the SDS2000X+'s last preamble line `Software Version,1.3.7R5,`
 /// is not the header over a units row `Second,Value`. Rows: the 1000 Hz sine of this file,

@@ -283,10 +283,10 @@ fn psd_of_uff(
     let channels: Vec<ChannelPsd> = chosen
         .par_iter()
         .map(|(name, r)| {
-            let step = r.uniform_step().ok_or_else(|| SignalError::Uff {
+            let step = r.spacing().map_err(|message| SignalError::Uff {
                 file: path.to_path_buf(),
                 line: r.line,
-                message: "the abscissa is not evenly spaced".into(),
+                message,
             })?;
             let unit = ordinate_unit(&r.ordinate_label, ingest, name);
             let k = unit.to_report_factor();

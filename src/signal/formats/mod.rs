@@ -125,9 +125,10 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
     let mut rate = Rate::Unknown;
     let names = channel_names(&file.records);
     for (r, name) in file.records.iter().zip(names) {
-        let step = r.uniform_step();
+        let step = r.spacing();
         match (r.function.function_type, r.is_complex(), step) {
-            (1, false, Some(step)) => {
+            (1, false, Err(why)) => ignored.push(format!("`{name}` (line {}: {why})", r.line)),
+            (1, false, Ok(step)) => {
                 if let Rate::Stated(fs, _) = rate
                     && !same_rate(fs, step)
                 {

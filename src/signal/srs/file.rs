@@ -148,9 +148,7 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
                 r.function.function_type
             )));
         }
-        let step = r
-            .uniform_step()
-            .ok_or_else(|| uff_err("the abscissa is not evenly spaced".into()))?;
+        let step = r.spacing().map_err(uff_err)?;
         if let Some((first_fs, first_name)) = &fs
             && !crate::signal::uff::same_rate(*first_fs, step)
         {

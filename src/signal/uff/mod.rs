@@ -60,6 +60,12 @@ pub struct UffRecord {
     /// Imaginary part; empty for a real record.
     pub im: Vec<f64>,
     pub even_spacing: bool,
+    /// Half the resolution of each abscissa value as written (an uneven record's x in ASCII:
+    /// half a unit of its last digit, `4.88281e-04` ± 5e-10; in 58b single: half an f32 ulp),
+    /// in the abscissa's unit after conversion. Empty when the abscissa is computed from record
+    /// 7 or written as doubles.
+    #[serde(skip)]
+    pub abscissa_half_ulp: Vec<f64>,
 }
 
 impl UffRecord {
@@ -67,19 +73,49 @@ impl UffRecord {
         !self.im.is_empty()
     }
 
-    /// Spacing of an evenly spaced abscissa, checked to 1e-6 relative.
+    /// Spacing of an evenly spaced abscissa (see [`UffRecord::spacing`]).
     pub fn uniform_step(&self) -> Option<f64> {
-        if self.abscissa.len() < 2 {
-            return None;
+        self.spacing().ok()
+    }
+
+    /// Spacing of an evenly spaced abscissa, or why it is not evenly spaced. Each step must be
+    /// the mean step to 1e-6 relative, plus what the rounding of the written values allows: a
+    /// step between two values each within half a unit of their last digit of the true one
+    /// can be off by the sum of those halves (pyuff writes an uneven abscissa as `%13.5e`, six
+    /// digits, so 1/2048 s steps read as 4.88281e-04, then 4.88280e-04 ...).
+    pub fn spacing(&self) -> Result<f64, String> {
+        let x = &self.abscissa;
+        let n = x.len();
+        if n < 2 {
+            return Err(format!(
+                "the record holds {n} point(s): no abscissa spacing"
+            ));
         }
-        let d = (self.abscissa[self.abscissa.len() - 1] - self.abscissa[0])
-            / (self.abscissa.len() - 1) as f64;
-        let ok = d > 0.0
-            && self
-                .abscissa
-                .windows(2)
-                .all(|w| ((w[1] - w[0]) - d).abs() <= 1e-6 * d.abs().max(f64::MIN_POSITIVE));
-        ok.then_some(d)
+        let d = (x[n - 1] - x[0]) / (n - 1) as f64;
+        if d.is_nan() || d <= 0.0 {
+            return Err("the abscissa does not increase".into());
+        }
+        let h = |k: usize| self.abscissa_half_ulp.get(k).copied().unwrap_or(0.0);
+        // The mean step's own rounding, from the first and last values.
+        let hd = (h(0) + h(n - 1)) / (n - 1) as f64;
+        for (k, w) in x.windows(2).enumerate() {
+            let step = w[1] - w[0];
+            let dev = (step - d).abs();
+            let allowed = 1e-6 * d + h(k) + h(k + 1) + hd;
+            if dev > allowed {
+                return Err(format!(
+                    "the abscissa is not evenly spaced: the step from point {} (x = {}) to point \
+                     {} (x = {}) is {step:e}, off the mean step {d:e} by {dev:e} ({:.3}%), more \
+                     than the {allowed:e} the written digits of these values allow",
+                    k + 1,
+                    w[0],
+                    k + 2,
+                    w[1],
+                    100.0 * dev / d
+                ));
+            }
+        }
+        Ok(d)
     }
 }
 
@@ -283,15 +319,22 @@ fn parse_record(
         .points
         .checked_mul(per_point)
         .ok_or_else(|| err(file, line_of(6), "number of data values overflows"))?;
-    let values = match binary {
-        None => ascii_values(file, cur, need, r7.points, line_of(6))?,
+    let (values, half_ulp) = match binary {
+        None => ascii_values(file, cur, need, r7.points, line_of(6), !r7.even)?,
         Some(layout) => binary_values(file, cur, need, &r7, layout, marker)?,
     };
     let (mut abscissa, re, im) = split_points(&values, &r7, complex);
+    // Rounding of the written abscissa values, for the spacing check.
+    let mut abscissa_half_ulp: Vec<f64> = if r7.even || half_ulp.is_empty() {
+        Vec::new()
+    } else {
+        half_ulp.iter().step_by(per_point).copied().collect()
+    };
     // The abscissa is kept in seconds (time) or hertz (frequency), whatever record 8 wrote.
     let scale = abscissa_scale(file, line_of(7), &abscissa_axis)?;
     if scale != 1.0 {
         abscissa.iter_mut().for_each(|x| *x *= scale);
+        abscissa_half_ulp.iter_mut().for_each(|h| *h *= scale);
     }
     if !r7.even && abscissa.windows(2).any(|w| w[1] <= w[0]) {
         return Err(err(file, marker, "the abscissa does not increase"));
@@ -311,6 +354,7 @@ fn parse_record(
         re,
         im,
         even_spacing: r7.even,
+        abscissa_half_ulp,
     })
 }
 
@@ -348,15 +392,30 @@ fn abscissa_scale(file: &Path, line: u64, axis: &AxisInfo) -> Result<f64, Signal
     Ok(scale)
 }
 
-/// ASCII data: numbers up to the closing `-1`, exactly `need` of them.
+/// Half a unit of the last digit written in a number token: `4.88281e-04` gives 5e-10,
+/// `12.5` 0.05, `3` 0.5.
+fn token_half_ulp(tok: &str) -> f64 {
+    let t = tok.trim_start_matches(['+', '-']);
+    let (mantissa, exponent) = match t.find(['e', 'E', 'd', 'D']) {
+        Some(i) => (&t[..i], t[i + 1..].parse::<i32>().unwrap_or(0)),
+        None => (t, 0),
+    };
+    let decimals = mantissa.split_once('.').map_or(0, |(_, f)| f.len() as i32);
+    0.5 * 10f64.powi(exponent - decimals)
+}
+
+/// ASCII data: numbers up to the closing `-1`, exactly `need` of them; with `resolution`, also
+/// half a unit of the last written digit of each (see [`token_half_ulp`]).
 fn ascii_values(
     file: &Path,
     cur: &mut Cursor,
     need: usize,
     points: usize,
     record7_line: u64,
-) -> Result<Vec<f64>, SignalError> {
+    resolution: bool,
+) -> Result<(Vec<f64>, Vec<f64>), SignalError> {
     let mut values: Vec<f64> = Vec::with_capacity(need.min(1 << 24));
+    let mut half_ulp: Vec<f64> = Vec::new();
     let first_data_line = cur.line();
     let mut last_data_line = first_data_line;
     loop {
@@ -394,6 +453,9 @@ fn ascii_values(
                 return Err(err(file, line_no, format!("non-finite value `{tok}`")));
             }
             values.push(v);
+            if resolution {
+                half_ulp.push(token_half_ulp(tok));
+            }
         }
     }
     if values.len() != need {
@@ -408,11 +470,11 @@ fn ascii_values(
             ),
         ));
     }
-    Ok(values)
+    Ok((values, half_ulp))
 }
 
 /// 58b data: `layout.bytes` raw IEEE values (single for ordinate types 2 and 5, double for 4
-/// and 6), then the closing `-1`.
+/// and 6), then the closing `-1`; for single values, also half an f32 ulp of each.
 fn binary_values(
     file: &Path,
     cur: &mut Cursor,
@@ -420,7 +482,7 @@ fn binary_values(
     r7: &header::Record7,
     layout: BinaryLayout,
     marker: u64,
-) -> Result<Vec<f64>, SignalError> {
+) -> Result<(Vec<f64>, Vec<f64>), SignalError> {
     let width = if matches!(r7.ordinate_type, 2 | 5) {
         4
     } else {
@@ -465,15 +527,32 @@ fn binary_values(
         }
         values.push(v);
     }
+    // f64 rounding is below the 1e-6 relative of the spacing check; f32's is not.
+    let half_ulp: Vec<f64> = if width == 4 && !r7.even {
+        values.iter().map(|&v| half_f32_ulp(v)).collect()
+    } else {
+        Vec::new()
+    };
     cur.finish_binary_line();
     let close = cur.line();
     match cur.next_line() {
-        Some(l) if l.trim() == "-1" => Ok(values),
+        Some(l) if l.trim() == "-1" => Ok((values, half_ulp)),
         _ => Err(err(
             file,
             close,
             "the 58b data block is not followed by `-1` (byte count of the 58b line wrong?)",
         )),
+    }
+}
+
+/// Half the distance from an f32 value to the next one away from zero.
+fn half_f32_ulp(v: f64) -> f64 {
+    let a = (v as f32).abs();
+    let next = f32::from_bits(a.to_bits().saturating_add(1));
+    if next.is_finite() {
+        0.5 * f64::from(next - a)
+    } else {
+        0.0
     }
 }
 
@@ -614,7 +693,22 @@ fn density_unit(label: &str) -> Option<crate::signal::ingest::Unit> {
 
 #[cfg(test)]
 mod tests {
-    use super::{Record6, density_unit, point_label};
+    use super::{Record6, density_unit, half_f32_ulp, point_label, token_half_ulp};
+
+    /// Half a unit of the last written digit, by construction of the decimal forms: six
+    /// digits at 1e-4 (`%13.5e` of 1/2048 s) resolve 1e-9, so half of it is 5e-10.
+    #[test]
+    fn a_written_number_rounds_by_half_its_last_digit() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b;
+        assert!(close(token_half_ulp("4.88281e-04"), 5e-10));
+        assert!(close(token_half_ulp("-1.03675257619E+01"), 5e-11));
+        assert!(close(token_half_ulp("1.5D-3"), 5e-5));
+        assert!(close(token_half_ulp("12.5"), 0.05));
+        assert!(close(token_half_ulp("3"), 0.5));
+        // f32 has 24 significant bits: at 1.0 the next value is 2^-23 above.
+        assert_eq!(half_f32_ulp(1.0), 0.5 * 2f64.powi(-23));
+        assert_eq!(half_f32_ulp(-1.0), 0.5 * 2f64.powi(-23));
+    }
 
     /// Record 6's direction code (UFF58: 1–3 translations X, Y, Z, 4–6 rotations, negative for
     /// the minus direction, 0 scalar) written as a modal test names its points.
