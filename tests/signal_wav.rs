@@ -63,6 +63,30 @@ fn cut_compressed_and_inconsistent_files_are_located_errors() {
     );
 }
 
+/// A `data` chunk whose size field was never written (0, the recorder stopped before going
+/// back to it) with the samples after it: the error says so, and never prints sample bytes
+/// as a chunk id (the probe's file printed `\xEF\xBF\xBD\x06\0\0`).
+#[test]
+fn a_data_chunk_declared_empty_with_samples_after_it_is_named() {
+    // `wave` writes the `data` chunk header at byte 36: its size field is bytes 40..44.
+    let unfinished = edited("datasize0", |b| b[40..44].copy_from_slice(&[0; 4]));
+    let e = psd_error(&unfinished);
+    assert!(
+        e.contains(
+            "the `data` chunk at byte 36 is declared empty (size 0) but 8000 bytes follow it"
+        ),
+        "{e}"
+    );
+    assert!(!e.contains('\u{FFFD}') && !e.contains('\0'), "{e:?}");
+    // A chunk id that is not text is printed with its bytes escaped.
+    let garbage = edited("garbage-id", |b| {
+        b[36..40].copy_from_slice(&[0xBD, 0x06, 0, 0]);
+        b[40..44].copy_from_slice(&u32::MAX.to_le_bytes());
+    });
+    let e = psd_error(&garbage);
+    assert!(e.contains("chunk `\\xBD\\x06\\x00\\x00` at byte 36"), "{e}");
+}
+
 #[test]
 fn mutated_files_give_a_log_or_an_error_never_a_panic() {
     let original = std::fs::read(wav("wave_pcm24_2ch.wav")).unwrap();

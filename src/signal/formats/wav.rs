@@ -108,6 +108,19 @@ fn sample(b: &[u8], f: &Format) -> f64 {
 /// A chunk: its id, the byte where its body starts, and the body.
 type Chunk<'a> = ([u8; 4], usize, &'a [u8]);
 
+/// A chunk id as text: printable ASCII as it is, any other byte as `\xNN`.
+fn printable(id: &[u8]) -> String {
+    id.iter()
+        .map(|&b| {
+            if b.is_ascii_graphic() || b == b' ' {
+                char::from(b).to_string()
+            } else {
+                format!("\\x{b:02X}")
+            }
+        })
+        .collect()
+}
+
 /// The chunks of the file, in order.
 fn chunks(bytes: &[u8]) -> Result<Vec<Chunk<'_>>, String> {
     let mut out = Vec::new();
@@ -116,13 +129,23 @@ fn chunks(bytes: &[u8]) -> Result<Vec<Chunk<'_>>, String> {
         let id = [bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]];
         let size = u32_at(bytes, at + 4) as usize;
         let body = at + 8;
+        if &id == b"data" && size == 0 && body < bytes.len() {
+            // A writer that stopped before going back to fill in the sizes: the samples follow,
+            // but how many were meant is not stated, and the bytes after are not chunks.
+            return Err(format!(
+                "the `data` chunk at byte {at} is declared empty (size 0) but {} bytes follow \
+                 it: the header was never finished (the recording stopped before the writer \
+                 filled in the sizes); re-export the file, or repair its header",
+                bytes.len() - body
+            ));
+        }
         let end = body
             .checked_add(size)
             .filter(|&e| e <= bytes.len())
             .ok_or_else(|| {
                 format!(
                     "chunk `{}` at byte {at} announces {size} bytes, but the file ends at byte {}",
-                    String::from_utf8_lossy(&id),
+                    printable(&id),
                     bytes.len()
                 )
             })?;
@@ -145,7 +168,7 @@ pub fn read_wav(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
     if &bytes[0..4] != b"RIFF" {
         return Err(bad(format!(
             "{} (a WAV above 4 GB) is not read: split the recording",
-            String::from_utf8_lossy(&bytes[0..4])
+            printable(&bytes[0..4])
         )));
     }
     let chunks = chunks(bytes).map_err(bad)?;
