@@ -1005,7 +1005,8 @@ fn psd_fails(p: &std::path::Path) -> String {
 
 /// The abscissa's units label (record 8) gives its unit: the same 1000 Hz time history with
 /// its increment written in ms (`1.00000E+00` ms) reads at 1000 Hz, not 1 Hz. A label that
-/// is no time or frequency unit is refused at record 8's line (line 10), never taken as s.
+/// is no time or frequency unit leaves its record unread, naming record 8's line (line 10),
+/// never taken as s; the file's other records would still be read.
 #[test]
 fn uff58_abscissa_in_ms_is_converted_and_an_unknown_unit_refused() {
     let seconds = uff58("Acceleration", "g", 1.0);
@@ -1026,7 +1027,7 @@ fn uff58_abscissa_in_ms_is_converted_and_an_unknown_unit_refused() {
     let e = psd_fails(&write("x-furlong.uff", &odd));
     assert!(
         e.contains(
-            "x-furlong.uff: line 10: record 8 (the abscissa) gives the units label `furlong`"
+            "x-furlong.uff: line 2: record 8 (the abscissa, line 10) gives the units label `furlong`"
         ),
         "{e}"
     );

@@ -66,6 +66,9 @@ pub struct UffRecord {
     /// 7 or written as doubles.
     #[serde(skip)]
     pub abscissa_half_ulp: Vec<f64>,
+    /// Why the abscissa's units label (record 8) is not read: the record is then left out
+    /// (its spacing is unknown) while the file's other records are read.
+    pub abscissa_unit_error: Option<String>,
 }
 
 impl UffRecord {
@@ -84,6 +87,9 @@ impl UffRecord {
     /// can be off by the sum of those halves (pyuff writes an uneven abscissa as `%13.5e`, six
     /// digits, so 1/2048 s steps read as 4.88281e-04, then 4.88280e-04 ...).
     pub fn spacing(&self) -> Result<f64, String> {
+        if let Some(why) = &self.abscissa_unit_error {
+            return Err(why.clone());
+        }
         let x = &self.abscissa;
         let n = x.len();
         if n < 2 {
@@ -331,7 +337,10 @@ fn parse_record(
         half_ulp.iter().step_by(per_point).copied().collect()
     };
     // The abscissa is kept in seconds (time) or hertz (frequency), whatever record 8 wrote.
-    let scale = abscissa_scale(file, line_of(7), &abscissa_axis)?;
+    let (scale, abscissa_unit_error) = match abscissa_scale(&abscissa_axis, line_of(7)) {
+        Ok(scale) => (scale, None),
+        Err(why) => (1.0, Some(why)),
+    };
     if scale != 1.0 {
         abscissa.iter_mut().for_each(|x| *x *= scale);
         abscissa_half_ulp.iter_mut().for_each(|h| *h *= scale);
@@ -355,6 +364,7 @@ fn parse_record(
         im,
         even_spacing: r7.even,
         abscissa_half_ulp,
+        abscissa_unit_error,
     })
 }
 
@@ -362,7 +372,7 @@ fn parse_record(
 /// s, ms, µs, ns, min, h, or Hz, kHz; 1 when the label is `NONE` or blank (the SDRC default,
 /// seconds or hertz). A label that is none of these is refused, never taken as seconds: a
 /// time axis in `ms` read as seconds puts every frequency 1000 times too low.
-fn abscissa_scale(file: &Path, line: u64, axis: &AxisInfo) -> Result<f64, SignalError> {
+fn abscissa_scale(axis: &AxisInfo, line: u64) -> Result<f64, String> {
     let label = axis.unit.trim();
     if label.is_empty() {
         return Ok(1.0);
@@ -377,15 +387,11 @@ fn abscissa_scale(file: &Path, line: u64, axis: &AxisInfo) -> Result<f64, Signal
         "hz" | "1/s" => 1.0,
         "khz" => 1e3,
         _ => {
-            return Err(err(
-                file,
-                line,
-                format!(
-                    "record 8 (the abscissa) gives the units label `{label}`, which is not a \
+            return Err(format!(
+                "record 8 (the abscissa, line {line}) gives the units label `{label}`, which is not a \
                      time unit (s, ms, us, ns, min, h) or a frequency unit (Hz, kHz): the \
                      abscissa is not read as seconds on a guess; export the record with its \
                      abscissa in one of these units"
-                ),
             ));
         }
     };
