@@ -632,37 +632,39 @@ fn qualify_test_data(name: &str, from: &str, to: &str) -> (Option<i32>, String) 
 /// for one log, or a table out of order, are refused at their key.
 #[test]
 fn test_log_control_and_reference_profile_are_checked_not_guessed() {
-    let (code, err) = qualify_test_data(
-        "control-name",
-        "control = \"Channel 1\"",
-        "control = \"Channel 9\"",
-    );
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("key `test_log[0].control`")
-            && err.contains("channel `Channel 9` is not in")
-            && err.contains("(its channels: Channel 1)"),
-        "{err}"
-    );
-    let (code, err) = qualify_test_data(
-        "two-profiles",
-        "control = \"Channel 1\"",
-        "control = \"Channel 1\"\nprofile = \"random\"",
-    );
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("test_log[0].profile") && err.contains("give one of them"),
-        "{err}"
-    );
-    let (code, err) = qualify_test_data(
-        "profile-order",
-        "[10.0, 1.45e-4], [25.0",
-        "[30.0, 1.45e-4], [25.0",
-    );
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("test_log[0].profile_table[1]")
-            && err.contains("frequencies must increase: 25 Hz follows 30 Hz"),
-        "{err}"
-    );
+    // (case, text replaced, replacement, every part the error must hold)
+    let cases: [(&str, &str, &str, &[&str]); 3] = [
+        (
+            "control-name",
+            "control = \"Channel 1\"",
+            "control = \"Channel 9\"",
+            &[
+                "key `test_log[0].control`",
+                "channel `Channel 9` is not in",
+                "(its channels: Channel 1)",
+            ],
+        ),
+        (
+            "two-profiles",
+            "control = \"Channel 1\"",
+            "control = \"Channel 1\"\nprofile = \"random\"",
+            &["test_log[0].profile", "give one of them"],
+        ),
+        (
+            "profile-order",
+            "[10.0, 1.45e-4], [25.0",
+            "[30.0, 1.45e-4], [25.0",
+            &[
+                "test_log[0].profile_table[1]",
+                "frequencies must increase: 25 Hz follows 30 Hz",
+            ],
+        ),
+    ];
+    for (name, from, to, parts) in cases {
+        let (code, err) = qualify_test_data(name, from, to);
+        assert_eq!(code, Some(2), "{name}: {err}");
+        for part in parts {
+            assert!(err.contains(part), "{name}: {part:?} not in {err}");
+        }
+    }
 }

@@ -189,7 +189,7 @@ pub fn wedging(s: &SatelliteResult, run: &RunLimits) -> Verdict {
     let slowest = s.min_engaged_speed_m_s.unwrap_or(s.final_speed_m_s);
     let name = match (&s.stall, s.wedged) {
         (Some(st), _) => format!("satellite {i} wedges in the bars: {}", st.describe()),
-        (None, true) if s.final_speed_m_s > run.stall_speed_m_s => format!(
+        (None, true) if s.cut_short(run.stall_speed_m_s) => format!(
             "satellite {i} has not left the bars when the run ends at {} s, still moving at {:.3} m/s: raise separation.max_time_s",
             run.max_time_s, s.final_speed_m_s
         ),

@@ -59,6 +59,17 @@ pub struct Stall {
     pub friction: f64,
 }
 
+impl SatelliteResult {
+    /// Released, not stalled, and still sliding up the bars (faster than `stall_speed`) when
+    /// the run ended: the run was too short to show its exit.
+    pub fn cut_short(&self, stall_speed: f64) -> bool {
+        self.release_time_s.is_some()
+            && self.exit_time_s.is_none()
+            && self.stall.is_none()
+            && self.final_speed_m_s > stall_speed
+    }
+}
+
 impl Stall {
     /// "stalled 4.21 s after its release, 0.412 m up the bars, held by friction (μ = 0.30) at
     /// column 1 bottom edge 12.3 N, column 3 top edge 11.0 N".
@@ -203,12 +214,7 @@ impl SeparationResult {
     /// of the run (`max_time_s`) caught still moving on the bars (faster than `stall_speed`).
     pub fn find_warnings(&self, stall_speed: f64, max_time_s: f64) -> Vec<String> {
         let mut w = Vec::new();
-        for s in self.satellites.iter().filter(|s| {
-            s.release_time_s.is_some()
-                && s.exit_time_s.is_none()
-                && s.stall.is_none()
-                && s.final_speed_m_s > stall_speed
-        }) {
+        for s in self.satellites.iter().filter(|s| s.cut_short(stall_speed)) {
             w.push(format!(
                 "satellite {} is still moving up the bars at {:.3} m/s when the run ends at \
                  max_time_s = {max_time_s} s: its exit speed, tip-off rate and clearances are not \

@@ -76,11 +76,6 @@ impl UffRecord {
         !self.im.is_empty()
     }
 
-    /// Spacing of an evenly spaced abscissa (see [`UffRecord::spacing`]).
-    pub fn uniform_step(&self) -> Option<f64> {
-        self.spacing().ok()
-    }
-
     /// Spacing of an evenly spaced abscissa, or why it is not evenly spaced. Each step must be
     /// the mean step to 1e-6 relative, plus what the rounding of the written values allows: a
     /// step between two values each within half a unit of their last digit of the true one
@@ -370,8 +365,9 @@ fn parse_record(
 
 /// Seconds (time) or hertz (frequency) per unit of the abscissa's units label (record 8):
 /// s, ms, µs, ns, min, h, or Hz, kHz; 1 when the label is `NONE` or blank (the SDRC default,
-/// seconds or hertz). A label that is none of these is refused, never taken as seconds: a
-/// time axis in `ms` read as seconds puts every frequency 1000 times too low.
+/// seconds or hertz). A label that is none of these is why the record is not read (see
+/// [`UffRecord::spacing`]), never taken as seconds: a time axis in `ms` read as seconds puts
+/// every frequency 1000 times too low.
 fn abscissa_scale(axis: &AxisInfo, line: u64) -> Result<f64, String> {
     let label = axis.unit.trim();
     if label.is_empty() {
