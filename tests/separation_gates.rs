@@ -191,6 +191,7 @@ fn realization(i: u64, v: f64) -> Realization {
         tip_off_rate_deg_s: vec![0.1],
         min_clearance_m: None,
         wedged: vec![false],
+        cut_short: vec![false],
         steps: 1,
     }
 }
@@ -348,6 +349,26 @@ fn a_run_ended_before_the_exit_says_so_and_a_release_after_it_is_refused() {
             && !g.name.contains("wedges"),
         "{}",
         g.name
+    );
+    // In a Monte Carlo of the same too-short run, every run counts as wedged (none shows the
+    // exit), but the gate and the tally say the run ended first and what to raise.
+    let mc = satqual::separation::montecarlo::monte_carlo(&m, 3, 1).unwrap();
+    assert_eq!(
+        (mc.bounds.runs_with_wedging, mc.bounds.runs_cut_short),
+        (3, 3)
+    );
+    assert!(mc.bounds.wedged.iter().all(|w| w.cut_short));
+    let g = satqual::gates::separation::monte_carlo(&mc, &GatesSpec::default());
+    let w = g
+        .iter()
+        .find(|g| g.name.contains("wedging probability"))
+        .unwrap();
+    assert!(
+        !w.pass
+            && w.name.contains("run 0 satellite 1, still sliding at")
+            && w.name.contains("raise separation.max_time_s"),
+        "{}",
+        w.name
     );
     // A release scheduled at or after the end of the run is refused at max_time_s.
     let text = small_stack(1, 1.5, "max_time_s = 1.0\nunlock_time_s = 2.0\n", "");

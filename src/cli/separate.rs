@@ -295,6 +295,13 @@ fn bounds_line(s: &mut String, mc: &separation::MonteCarloResult) {
         b.runs_with_wedging,
         100.0 * b.wedging_probability_bound
     );
+    if b.runs_cut_short > 0 {
+        let _ = writeln!(
+            s,
+            "  {} of them only because the run ended with a satellite still sliding on the bars: raise separation.max_time_s",
+            b.runs_cut_short
+        );
+    }
 }
 
 fn write_histories(dir: &Path, h: &separation::History) -> Result<(), Error> {

@@ -8,7 +8,7 @@
 //! MS = limit/value − 1 (tip-off rate, time on the bars); minima value/limit − 1.
 
 use super::verdict::{MARGIN_CAP, Verdict, above, at_least, design_margin};
-use crate::separation::montecarlo::{MonteCarloResult, TailBound};
+use crate::separation::montecarlo::{MonteCarloResult, TailBound, Wedged};
 use crate::separation::shock::ReleaseShock;
 use crate::separation::{SatelliteResult, SeparationResult, order_stats};
 use crate::spec::GatesSpec;
@@ -305,18 +305,14 @@ fn wedging_probability(mc: &MonteCarloResult) -> Verdict {
     let seen = if b.wedged.is_empty() {
         format!("no wedge in {} runs", mc.runs)
     } else {
-        let list: Vec<String> = b
-            .wedged
-            .iter()
-            .map(|w| {
-                format!(
-                    "run {} satellite {}, final speed {:.3} m/s",
-                    w.run, w.satellite, w.final_speed_m_s
-                )
-            })
-            .collect();
+        let list: Vec<String> = b.wedged.iter().map(describe_wedged).collect();
         let (k, n) = (b.runs_with_wedging, mc.runs);
-        format!("{k} of {n} runs wedged: {}", list.join("; "))
+        let cure = if b.wedged.iter().any(|w| w.cut_short) {
+            "; a run that ends before a satellite's exit counts as wedged: raise separation.max_time_s"
+        } else {
+            ""
+        };
+        format!("{k} of {n} runs wedged: {}{cure}", list.join("; "))
     };
     let what = format!("Monte Carlo wedging probability per run, upper bound at {conf} confidence");
     let needed = order_stats::runs_needed(mc.probability, mc.confidence);
@@ -330,6 +326,17 @@ fn wedging_probability(mc: &MonteCarloResult) -> Verdict {
             short_of_runs(v, mc.runs, needed)
         }
         _ => design_margin(format!("{what} ({seen}) [%]"), value, limit, WEDGING_MC),
+    }
+}
+
+/// "run 3 satellite 2, final speed 0.004 m/s", or for a satellite the run's end caught
+/// sliding "run 3 satellite 2, still sliding at 0.210 m/s when the run ended".
+fn describe_wedged(w: &Wedged) -> String {
+    let (run, sat, v) = (w.run, w.satellite, w.final_speed_m_s);
+    if w.cut_short {
+        format!("run {run} satellite {sat}, still sliding at {v:.3} m/s when the run ended")
+    } else {
+        format!("run {run} satellite {sat}, final speed {v:.3} m/s")
     }
 }
 

@@ -187,6 +187,9 @@ pub struct RunBounds {
     pub min_clearance_m: Option<TailBound>,
     /// Runs in which at least one satellite wedged in the bars (stalled or never left).
     pub runs_with_wedging: usize,
+    /// Of those, runs whose only "wedged" satellites were still sliding when the run ended:
+    /// counted as wedged (the run does not show their exit), but the cure is a longer run.
+    pub runs_cut_short: usize,
     /// The upper bound of the per-run wedging probability at the demanded confidence
     /// (Clopper–Pearson, [`order_stats::failure_probability_bound`]): what the runs show.
     pub wedging_probability_bound: f64,
@@ -200,6 +203,8 @@ pub struct Wedged {
     pub run: u64,
     pub satellite: usize,
     pub final_speed_m_s: f64,
+    /// Still sliding up the bars when the run ended, rather than stalled.
+    pub cut_short: bool,
 }
 
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -293,7 +298,19 @@ pub struct Realization {
     pub min_clearance_m: Option<f64>,
     /// Per satellite: it wedged in the bars (stalled while engaged, or never left).
     pub wedged: Vec<bool>,
+    /// Per satellite: it was still sliding up the bars when the run ended
+    /// ([`SatelliteResult::cut_short`](crate::separation::SatelliteResult::cut_short)); it
+    /// is also `wedged`, since the run cannot show its exit.
+    pub cut_short: Vec<bool>,
     pub steps: usize,
+}
+
+impl Realization {
+    /// Satellite `i` (0-based) was still sliding when the run ended (false where a part file
+    /// written without this record says nothing).
+    pub fn cut_short_at(&self, i: usize) -> bool {
+        self.cut_short.get(i).copied().unwrap_or(false)
+    }
 }
 
 /// Run `i` of the Monte Carlo: its random stream depends only on (`seed`, `i`), so any machine
@@ -312,6 +329,11 @@ pub fn realize(model: &Model, seed: u64, i: u64) -> Result<Realization, Separati
         tip_off_rate_deg_s: r.satellites.iter().map(|s| s.final_rate_deg_s).collect(),
         min_clearance_m: r.projected_min_clearance_m(),
         wedged: r.satellites.iter().map(|s| s.wedged).collect(),
+        cut_short: r
+            .satellites
+            .iter()
+            .map(|s| s.cut_short(model.stall_speed_m_s))
+            .collect(),
         steps: r.stats.steps,
     })
 }
@@ -432,11 +454,17 @@ fn run_bounds(demand: Demand, results: &[Realization], clearance: &[f64]) -> Run
         .iter()
         .filter(|r| r.wedged.iter().any(|&w| w))
         .count();
+    let only_cut_short = |r: &&Realization| {
+        let stalled = (0..r.wedged.len()).any(|i| r.wedged[i] && !r.cut_short_at(i));
+        !stalled && r.cut_short.iter().any(|&c| c)
+    };
+    let runs_cut_short = results.iter().filter(only_cut_short).count();
     RunBounds {
         slowest_exit_speed_m_s: TailBound::of(&slowest, Side::Lower, demand),
         highest_tip_off_rate_deg_s: TailBound::of(&fastest_spin, Side::Upper, demand),
         min_clearance_m: TailBound::of(clearance, Side::Lower, demand),
         runs_with_wedging,
+        runs_cut_short,
         wedging_probability_bound: order_stats::failure_probability_bound(
             runs_with_wedging,
             results.len(),
@@ -451,6 +479,7 @@ fn run_bounds(demand: Demand, results: &[Realization], clearance: &[f64]) -> Run
                         run: r.index,
                         satellite: i + 1,
                         final_speed_m_s: r.final_speed_m_s[i],
+                        cut_short: r.cut_short_at(i),
                     })
             })
             .collect(),

@@ -98,6 +98,9 @@ pub struct RunRecord {
     pub min_clearance_bits: Option<u64>,
     /// Per satellite: it wedged in the bars.
     pub wedged: Vec<bool>,
+    /// Per satellite: still sliding when the run ended (absent in parts that predate it).
+    #[serde(default)]
+    pub cut_short: Vec<bool>,
     pub steps: usize,
 }
 
@@ -180,6 +183,7 @@ impl Part {
                     tip_off_rate_bits: bits(&x.tip_off_rate_deg_s),
                     min_clearance_bits: x.min_clearance_m.map(f64::to_bits),
                     wedged: x.wedged.clone(),
+                    cut_short: x.cut_short.clone(),
                     steps: x.steps,
                 })
                 .collect(),
@@ -266,6 +270,12 @@ impl RunRecord {
         if counts.iter().any(|&c| c != satellites) {
             return Err(bad(&format!("expected {satellites} satellites")));
         }
+        if !self.cut_short.is_empty() && self.cut_short.len() != satellites {
+            return Err(bad(&format!(
+                "cut_short has {} entries, expected {satellites} satellites",
+                self.cut_short.len()
+            )));
+        }
         let all = self
             .final_speed_bits
             .iter()
@@ -285,6 +295,7 @@ impl RunRecord {
             tip_off_rate_deg_s: vals(&self.tip_off_rate_bits),
             min_clearance_m: self.min_clearance_bits.map(f64::from_bits),
             wedged: self.wedged.clone(),
+            cut_short: self.cut_short.clone(),
             steps: self.steps,
         }
     }
