@@ -531,3 +531,31 @@ fn modes_identified_from_stored_frfs_correlate_with_the_model() {
     let (code, _, err) = run_text(&["correlate", scene.to_str().unwrap()], None);
     assert!(code == 2 && err.contains("test_log[0].kind"), "{err}");
 }
+
+/// A test point on the clamped node: the model cannot move there, every FE shape is 0 at it,
+/// so it is named in a note (it adds nothing to a MAC); with every point there the correlation
+/// is refused at the first point, since nothing is left to compare.
+#[test]
+fn a_test_point_on_a_held_dof_is_named() {
+    let fe = fe_modes(2);
+    let text = with_test_modes(&fe, "nasa-std-5002");
+    let one_held = text.replacen("node = 2\ndirection", "node = 1\ndirection", 1);
+    let c = correlate(&one_held);
+    assert!(
+        c.notes.iter().any(|n| n
+            .contains("test point 1 (channel `z2`, node 1 +z) is held by the model's supports")
+            && n.contains("adds nothing to the MAC")),
+        "{:?}",
+        c.notes
+    );
+    assert!(c.fe_modes.iter().all(|m| m.shape[0] == 0.0));
+    let mut all_held = text.clone();
+    for node in 2..=6 {
+        all_held = all_held.replace(&format!("node = {node}\ndirection"), "node = 1\ndirection");
+    }
+    let e = correlate::run(&parse(&all_held)).unwrap_err().to_string();
+    assert!(
+        e.contains("test_point[0].node") && e.contains("nothing to correlate"),
+        "{e}"
+    );
+}

@@ -54,6 +54,35 @@ pub fn test_dof_rows(
         .collect()
 }
 
+/// Test points whose DOF the model holds (a support, or nothing free behind it): every FE
+/// shape is 0 there, so the point adds nothing to a MAC. One note per such point; an error
+/// when every point is held, since there is then nothing to correlate.
+pub fn held_points(scene: &Scene, rows: &[Vec<(usize, f64)>]) -> Result<Vec<String>, Error> {
+    let points = &scene.file.test_point;
+    let held: Vec<usize> = (0..rows.len()).filter(|&i| rows[i].is_empty()).collect();
+    let describe = |i: usize| {
+        let p = &points[i];
+        format!(
+            "test point {} (channel `{}`, node {} {}) is held by the model's supports: every FE shape is 0 there",
+            i + 1,
+            p.channel,
+            p.node,
+            p.direction
+        )
+    };
+    if !rows.is_empty() && held.len() == rows.len() {
+        let msg = format!(
+            "{}; so is every other test point: nothing to correlate (place the points on free DOFs)",
+            describe(0)
+        );
+        return Err(scene.locator().err("test_point[0].node", msg).into());
+    }
+    Ok(held
+        .into_iter()
+        .map(|i| format!("{}, so it adds nothing to the MAC", describe(i)))
+        .collect())
+}
+
 /// Every elastic mode of `sys` at the test DOFs.
 pub fn fe_modes(sys: &ModalSystem, rows: &[Vec<(usize, f64)>]) -> Vec<FeModeAtTest> {
     sys.result

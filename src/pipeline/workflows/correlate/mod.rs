@@ -64,6 +64,7 @@ pub fn run(scene: &Scene) -> Result<Correlation, Error> {
     let opts = modal_options(scene, &ModalOverrides::default());
     let (model, sys) = super::modal::run(scene, &opts)?;
     let rows = fe_side::test_dof_rows(scene, &model, &sys)?;
+    let held = fe_side::held_points(scene, &rows)?;
     let fe = fe_side::fe_modes(&sys, &rows);
     let (method, mac, found) = pair_modes(scene, &test, &fe);
     let standard = scene
@@ -87,7 +88,7 @@ pub fn run(scene: &Scene) -> Result<Correlation, Error> {
         reduction: REDUCTION,
         cross_orthogonality: None,
         gates: Vec::new(),
-        notes: Vec::new(),
+        notes: held,
         test_modes: test,
         fe_modes: fe,
     };

@@ -145,6 +145,7 @@ fn targets(problem: &Problem, spec: &UpdateSpec) -> Result<Vec<Target>, Error> {
     let scene = problem.base;
     let (model, sys) = super::modal::run(scene, &problem.opts)?;
     let rows = fe_side::test_dof_rows(scene, &model, &sys)?;
+    fe_side::held_points(scene, &rows)?;
     let fe = fe_side::fe_modes(&sys, &rows);
     let (_, _, pairs) = pair_modes(scene, &problem.test, &fe);
     if pairs.is_empty() {
