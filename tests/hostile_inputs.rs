@@ -60,6 +60,15 @@ refused_input_cases! {
         contains ["key `margins.fitting_factor`", "plausible range [1e0, 1e1]"];
     stack_with_huge_column_elements: "column_elements = 1" => "column_elements = 100000",
         contains ["key `stack.column_elements`", "4800000 in the columns", "limit of 200000"];
+    // The count-or-word keys say what they take and what they got.
+    bar_modes_as_a_float: "bar_modes = 3 " => "bar_modes = 3.0 ",
+        contains ["key `separation.bar_modes`", "floating point `3.0`",
+            "expected a whole number of modes per bending plane, or `rigid`"],
+        at crate::common::line_of(&paper_stack(), "bar_modes = 3 ");
+    negative_run_count: "runs = 59" => "runs = -5",
+        contains ["key `separation.dispersion.runs`", "integer `-5`",
+            "expected a whole number of runs, or `auto`"],
+        at crate::common::line_of(&paper_stack(), "runs = 59");
 }
 
 #[test]

@@ -55,8 +55,8 @@ impl Recorder {
 impl<'de> Deserializer<'de> for Recorder {
     type Error = WalkError;
 
-    // Only `#[serde(untagged)]` enums ask for "any" (they buffer the input first); a number
-    // is accepted by the one such enum in the scene, `bar_modes`.
+    // Only the count-or-word keys (`bar_modes`, `runs`; spec::count_or_word) ask for "any";
+    // both accept a number.
     fn deserialize_any<V: Visitor<'de>>(self, v: V) -> Result<V::Value, WalkError> {
         v.visit_u64(0)
     }

@@ -11,6 +11,7 @@ pub mod analysis;
 mod array_lengths;
 pub mod calibration;
 pub mod correlation;
+mod count_or_word;
 pub mod damping_edit;
 #[cfg(test)]
 mod doc_keys;

@@ -8,6 +8,7 @@
 //! reports the dotted key through the scene's [`Locator`].
 
 use super::Locator;
+use super::count_or_word::{self, CountOrWord};
 use super::model::{nonneg, positive};
 use super::stack::StackSpec;
 use crate::error::SpecError;
@@ -135,11 +136,21 @@ impl ShockSpec {
 }
 
 /// A count of modes per bending plane, or the word `rigid`.
-#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
 #[serde(untagged)]
 pub enum BarModesChoice {
     Modes(usize),
     Word(String),
+}
+
+impl<'de> Deserialize<'de> for BarModesChoice {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let expecting = "a whole number of modes per bending plane, or `rigid`";
+        Ok(match count_or_word::read(d, expecting)? {
+            CountOrWord::Count(n) => Self::Modes(n),
+            CountOrWord::Word(w) => Self::Word(w),
+        })
+    }
 }
 
 impl BarModesChoice {
@@ -276,11 +287,22 @@ pub struct CarrierSpec {
 }
 
 /// A run count, or the word `auto`.
-#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
 #[serde(untagged)]
 pub enum RunCount {
     Count(usize),
     Word(String),
+}
+
+impl<'de> Deserialize<'de> for RunCount {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        Ok(
+            match count_or_word::read(d, "a whole number of runs, or `auto`")? {
+                CountOrWord::Count(n) => Self::Count(n),
+                CountOrWord::Word(w) => Self::Word(w),
+            },
+        )
+    }
 }
 
 /// Monte Carlo dispersions (1σ for normal ones, bounds for uniform ones). All zero by default.
