@@ -36,8 +36,12 @@ impl std::fmt::Display for SpecError {
 /// The finite-element model cannot be assembled or solved.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FemError {
-    #[error("the model has no free degree of freedom")]
+    #[error(
+        "the model has no free degree of freedom: the supports (and rigid links) hold every DOF of every node, so nothing can vibrate; support only the nodes that are held in the test or in flight"
+    )]
     NoFreeDofs,
+    #[error("{node} is a rigid-link slave and also supported: support its master, {master}")]
+    SupportedSlave { node: String, master: String },
     #[error(
         "the mass matrix is singular on {node} DOF {dof} ({dof_name}): it carries no mass and is not supported; add a support on it, a mass or inertia, or a beam that gives it mass"
     )]

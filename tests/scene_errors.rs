@@ -140,6 +140,39 @@ dofs = "123456"
     }
 }
 
+/// Supports that leave nothing free, and a support on a rigid-link slave (its motion is its
+/// master's), are located at the support that causes them.
+#[test]
+fn supports_that_hold_everything_or_a_slave_are_located() {
+    let modal_error = |text: &str| {
+        let scene = Scene::parse(Path::new("bad.toml"), text).unwrap();
+        satqual::pipeline::modal(&scene, None, None)
+            .unwrap_err()
+            .to_string()
+    };
+    // One element between two clamped nodes: no interior node is left free.
+    let held = BASE.replace("elements = 4", "elements = 1")
+        + "\n[[support]]\nnode = 2\ndofs = \"123456\"\n";
+    let e = modal_error(&held);
+    let at = format!("bad.toml:{}:", line_of(BASE, "[[support]]") + 1);
+    assert!(
+        e.starts_with(&at) && e.contains("support[0].node") && e.contains("no free degree"),
+        "{e}"
+    );
+    let slave = BASE.to_string()
+        + "\n[[node]]\nid = 3\nposition_m = [1.0, 0.1, 0.0]\n\n[[rigid]]\nmaster = 2\nslaves = [3]\n\n[[support]]\nnode = 3\ndofs = \"123\"\n";
+    let e = modal_error(&slave);
+    let at = format!("bad.toml:{}:", line_of(&slave, "node = 3"));
+    assert!(
+        e.starts_with(&at)
+            && e.contains("support[1].node")
+            && e.contains(
+                "node 3 is a rigid-link slave and also supported: support its master, node 2"
+            ),
+        "{e}"
+    );
+}
+
 #[test]
 fn unconstrained_static_solve_is_an_error() {
     // Static loads on a model without supports: the stiffness is singular.

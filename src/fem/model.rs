@@ -375,10 +375,10 @@ impl FeModel {
                 }
                 Some(m) => {
                     if self.fixed[n].iter().any(|&f| f) {
-                        return Err(FemError::Invalid(format!(
-                            "{} is a rigid-link slave and also supported: support its master, {}",
-                            self.nodes[n].label, self.nodes[m].label
-                        )));
+                        return Err(FemError::SupportedSlave {
+                            node: self.nodes[n].label.clone(),
+                            master: self.nodes[m].label.clone(),
+                        });
                     }
                     let rv = [
                         self.nodes[n].x[0] - self.nodes[m].x[0],

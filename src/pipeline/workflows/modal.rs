@@ -139,12 +139,17 @@ fn locate_modal_error(scene: &Scene, e: Error) -> Error {
     }
 }
 
-/// Attaches the scene location of the node an FE error names, when it is a scene node.
+/// Attaches the scene location of the node an FE error names, when it is a scene node: the
+/// node itself, or the support that holds it; a model held everywhere at its first support.
 pub fn locate(scene: &Scene, e: FemError) -> Error {
     let node = match &e {
         FemError::MasslessDof { node, .. }
         | FemError::Unconstrained { node, .. }
         | FemError::RigidChain { node } => node.clone(),
+        FemError::SupportedSlave { node, .. } => return locate_support(scene, node, e.to_string()),
+        FemError::NoFreeDofs if !scene.file.support.is_empty() => {
+            return scene.locator().err("support[0].node", e.to_string()).into();
+        }
         _ => return e.into(),
     };
     let id = node
@@ -163,6 +168,28 @@ pub fn locate(scene: &Scene, e: FemError) -> Error {
             column: 0,
             key: String::new(),
             message: e.to_string(),
+        }
+        .into(),
+    }
+}
+
+/// The `[[support]]` entry of the scene node named `node` ("node 7"), else the file alone.
+fn locate_support(scene: &Scene, node: &str, message: String) -> Error {
+    let id = node
+        .strip_prefix("node ")
+        .and_then(|s| s.parse::<i64>().ok());
+    let support = id.and_then(|id| scene.file.support.iter().position(|s| s.node == id));
+    match support {
+        Some(i) => scene
+            .locator()
+            .err(&format!("support[{i}].node"), message)
+            .into(),
+        None => SpecError {
+            file: scene.path.clone(),
+            line: 0,
+            column: 0,
+            key: String::new(),
+            message,
         }
         .into(),
     }
