@@ -42,13 +42,15 @@ pub enum FemError {
     NoFreeDofs,
     #[error("{node} is a rigid-link slave and also supported: support its master, {master}")]
     SupportedSlave { node: String, master: String },
-    #[error(
-        "the mass matrix is singular on {node} DOF {dof} ({dof_name}): it carries no mass and is not supported; add a support on it, a mass or inertia, or a beam that gives it mass"
-    )]
+    #[error("{}", massless_dof_message(.node, *.dof, .dof_name, *.mass, *.largest))]
     MasslessDof {
         node: String,
         dof: usize,
         dof_name: &'static str,
+        /// Its diagonal mass term (kg, or kg·m² for a rotation).
+        mass: f64,
+        /// The largest diagonal mass term of the model, same units per kind.
+        largest: f64,
     },
     #[error(
         "the stiffness matrix is singular near {node} DOF {dof} ({dof_name}): the model is unconstrained or a mechanism there (add supports for a static or buckling solve), or a spring many decades stiffer than its neighbours has taken the digits of its pivot (model a rigid connection with [[rigid]])"
@@ -326,3 +328,17 @@ impl Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// "carries no mass", or, for a mass too small to count against the model's largest (below
+/// 1e-14 of it), that mass with a hint at units: an inertia in g·mm² is 1e-9 of kg·m².
+fn massless_dof_message(node: &str, dof: usize, dof_name: &str, mass: f64, largest: f64) -> String {
+    let at = format!("the mass matrix is singular on {node} DOF {dof} ({dof_name})");
+    let fix = "add a support on it, a mass or inertia, or a beam that gives it mass";
+    if mass > 0.0 {
+        format!(
+            "{at}: its mass term {mass:.3e} is below 1e-14 of the model's largest ({largest:.3e}), so it is lost to round-off; check its units (kg, kg·m²: an inertia in g·mm² is 1e-9 of its value in kg·m²), or {fix}"
+        )
+    } else {
+        format!("{at}: it carries no mass and is not supported; {fix}")
+    }
+}

@@ -130,6 +130,21 @@ dofs = "123456"
         "{e}"
     );
     assert!(e.starts_with("sdof.toml:6:"), "{e}");
+    // An inertia given, but in g·mm² (1e-9 of kg·m²): 1e-15 against the 10 kg of the
+    // translations is below the 1e-14 the mass check resolves; the message says so.
+    let tiny = text.replace(
+        "mass_kg = 10.0",
+        "mass_kg = 10.0\ninertia_kg_m2 = [1e-15, 1e-15, 1e-15]",
+    );
+    let scene = Scene::parse(Path::new("sdof.toml"), &tiny).unwrap();
+    let e = satqual::pipeline::modal(&scene, None, None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("node 2 DOF 4 (rx): its mass term 1.000e-15 is below 1e-14 of the model's largest (1.000e1)")
+            && e.contains("g·mm²"),
+        "{e}"
+    );
     // Supporting the rotations makes it a valid 3-DOF model: f = √(k/m)/2π = 50.33 Hz.
     let fixed = text.to_string() + "[[support]]\nnode = 2\ndofs = \"456\"\n";
     let scene = Scene::parse(Path::new("sdof.toml"), &fixed).unwrap();

@@ -210,6 +210,7 @@ pub struct ModalSystem {
     pub result: ModalResult,
 }
 
+/// The failed pivot `index` of a factorization of M (`massless`) or of K − σM, as its node and DOF.
 fn dof_err(model: &FeModel, red: &Reduction, index: usize, massless: bool) -> FemError {
     let (node, dof, dof_name) = model.dof_label(red.red_to_full[index]);
     if massless {
@@ -217,6 +218,8 @@ fn dof_err(model: &FeModel, red: &Reduction, index: usize, massless: bool) -> Fe
             node,
             dof,
             dof_name,
+            mass: 0.0,
+            largest: 0.0,
         }
     } else {
         FemError::Unconstrained {
@@ -288,7 +291,15 @@ fn check_every_dof_has_mass(
     }
     let scale = diag.iter().copied().fold(0.0, f64::max);
     if let Some(i) = diag.iter().position(|&d| d <= 1e-14 * scale) {
-        return Err(dof_err(model, red, i, true).into());
+        let (node, dof, dof_name) = model.dof_label(red.red_to_full[i]);
+        return Err(FemError::MasslessDof {
+            node,
+            dof,
+            dof_name,
+            mass: diag[i],
+            largest: scale,
+        }
+        .into());
     }
     Ok(())
 }
