@@ -258,3 +258,27 @@ fn an_interface_given_twice_is_refused() {
         "{e}"
     );
 }
+
+/// A clearance in millimetres where metres are asked for is wider than the 21 mm bore: the
+/// bar would be thinner than nothing. Refused at the key, for the nominal clearance and for
+/// the Monte Carlo's range.
+#[test]
+fn clearance_wider_than_the_bore() {
+    let t = paper_text().replace(
+        "[separation.contact]\n",
+        "[separation.contact]\nclearance_m = 0.5\n",
+    );
+    check(
+        &t,
+        "separation.contact.clearance_m",
+        "clearance_m = 0.5",
+        "a radial clearance of 0.5 m does not fit the column bore of 0.021 m",
+    );
+    let t = paper_text().replace("[0.0003, 0.0007]", "[0.3, 0.7]");
+    check(
+        &t,
+        "separation.dispersion.clearance_range_m",
+        "clearance_range_m",
+        "0.7 m does not fit",
+    );
+}

@@ -665,6 +665,25 @@ fn validate_stack_for_release(
             ),
         ));
     }
+    let bore_radius = 0.5 * stack.column_inner_diameter_m;
+    let clearances = [
+        ("separation.contact.clearance_m", spec.contact.clearance_m),
+        (
+            "separation.dispersion.clearance_range_m",
+            spec.dispersion.clearance_range_m.map(|r| r[1]),
+        ),
+    ];
+    for (key, c) in clearances {
+        if let Some(c) = c.filter(|&c| c >= bore_radius) {
+            return Err(loc.err(
+                key,
+                format!(
+                    "a radial clearance of {c} m does not fit the column bore of {} m diameter (stack.column_inner_diameter_m): the bar would be thinner than nothing; clearances are in metres (0.5 mm = 0.0005)",
+                    stack.column_inner_diameter_m
+                ),
+            ));
+        }
+    }
     match spec.contact.clearance_m {
         Some(c) => nonneg(loc, "separation.contact.clearance_m", c)?,
         None => {
