@@ -48,6 +48,8 @@ refused_input_cases! {
         contains ["key `node[1].position_m[0]`", "plausible range"];
     sine_band_to_1e300_hz: "to_hz = 1000.0" => "to_hz = 1e300",
         contains ["key `sine.segment[0].to_hz`", "[1e-6, 1e7] Hz"];
+    sine_displacement_in_millimetres: "acceleration_g = 1.0" => "displacement_m = 1.17",
+        contains ["key `sine.segment[0].displacement_m`", "plausible range [1e-12, 1e-1] m"];
     sine_level_nan: "acceleration_g = 1.0" => "acceleration_g = nan",
         contains ["key `sine.segment[0].acceleration_g`"];
     psd_level_subnormal: "[2000.0, 0.1]]" => "[2000.0, 1e-310]]",

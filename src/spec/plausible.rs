@@ -46,8 +46,10 @@ pub const Q: Range = range(0.5, 1e4, "", false);
 pub const ZETA: Range = range(5e-5, 0.999, "", false);
 /// A base-excitation sine level.
 pub const ACCELERATION_G: Range = range(1e-6, 1e4, "g", false);
-/// A base-excitation sine displacement amplitude.
-pub const DISPLACEMENT_M: Range = range(1e-12, 10.0, "m", false);
+/// A base-excitation sine displacement amplitude, zero to peak. The largest shakers that
+/// test spacecraft travel ±0.05–0.07 m (electrodynamic 100 mm stroke; hydraulic tables);
+/// 0.1 m covers them, and a displacement typed in millimetres (1.17 for 1.17 mm) is caught.
+pub const DISPLACEMENT_M: Range = range(1e-12, 0.1, "m", false);
 /// A random-vibration PSD level.
 pub const PSD_G2_HZ: Range = range(1e-15, 1e6, "g²/Hz", false);
 /// A test duration.
