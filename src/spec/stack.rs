@@ -381,6 +381,16 @@ impl StackSpec {
                 ),
             ));
         }
+        let spacing = self.column_spacing_m[0].min(self.column_spacing_m[1]);
+        if self.column_outer_diameter_m >= spacing {
+            return Err(loc.err(
+                &k("column_outer_diameter_m"),
+                format!(
+                    "columns of {} m outer diameter overlap at a column spacing of {spacing} m (stack.column_spacing_m): diameters are in metres (50 mm = 0.05)",
+                    self.column_outer_diameter_m
+                ),
+            ));
+        }
         if self.bar_diameter_m >= self.column_inner_diameter_m {
             return Err(loc.err(
                 &k("bar_diameter_m"),
