@@ -167,3 +167,34 @@ fn limit_level_sine_is_raised_by_the_qualification_factor() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A per-mode ratio for a mode beyond the ones the response uses (here mode 300 of a model of
+/// 306 DOFs whose sine response keeps 98 modes) cannot change the result: the damping line
+/// says it is not applied, instead of dropping it unseen.
+#[test]
+fn a_ratio_for_a_mode_the_response_does_not_use_is_named() {
+    let dir = crate::common::temp_dir("unused-ratio");
+    let text = std::fs::read_to_string("test-specs/shaker-2sat.toml")
+        .unwrap()
+        .replace(
+            "{ mode = 12, zeta = 0.275264, direction = \"z\" },",
+            "{ mode = 12, zeta = 0.275264, direction = \"z\" },\n    { mode = 300, zeta = 0.02 },",
+        );
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let (code, stdout, stderr) = crate::common::run_text(
+        &["sine", scene.to_str().unwrap(), "--axis", "z", "--json"],
+        None,
+    );
+    assert!(code == 0 || code == 1, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("stdout is JSON");
+    let used = v["axes"][0]["modes_used"].as_u64().unwrap();
+    assert!(used < 300, "{used}");
+    let damping = v["damping"].as_str().unwrap();
+    assert!(
+        damping.contains(&format!(
+            "the ratios given for mode(s) 300 are not applied: the response uses modes 1–{used}"
+        )),
+        "{damping}"
+    );
+}

@@ -47,7 +47,8 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     progress.finish();
     let results = &run.axes;
     let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
-    let damping = super::sine::damping_text(&run.damping, scene.file.damping.is_some());
+    let modes_used = results.iter().map(|r| r.modes_used).max().unwrap_or(0);
+    let damping = super::sine::damping_text(&run.damping, scene.file.damping.is_some(), modes_used);
     let p = Printer::new(args.json);
     let mut t = String::new();
     let _ = writeln!(t, "{}: random, damping {}", args.scene.display(), damping);

@@ -37,7 +37,32 @@ struct Output<'a> {
     axes: &'a [response::SineAxis],
 }
 
-pub fn damping_text(d: &satqual::spec::analysis::DampingSpec, given: bool) -> String {
+/// The damping as applied; `modes_used` (the most any axis kept) names per-mode ratios given
+/// for modes beyond it, which the response never reaches.
+pub fn damping_text(
+    d: &satqual::spec::analysis::DampingSpec,
+    given: bool,
+    modes_used: usize,
+) -> String {
+    let base = base_damping_text(d, given);
+    let unused: Vec<String> = d
+        .modes
+        .iter()
+        .flatten()
+        .filter(|m| m.mode > modes_used)
+        .map(|m| m.mode.to_string())
+        .collect();
+    if unused.is_empty() {
+        base
+    } else {
+        format!(
+            "{base}; the ratios given for mode(s) {} are not applied: the response uses modes 1–{modes_used}",
+            unused.join(", ")
+        )
+    }
+}
+
+fn base_damping_text(d: &satqual::spec::analysis::DampingSpec, given: bool) -> String {
     let base = match (d.q, d.zeta, &d.table) {
         (Some(q), _, _) => format!("Q = {q} (ζ = {:.4})", 0.5 / q),
         (_, Some(z), _) => format!("ζ = {z} (Q = {:.2})", 0.5 / z),
@@ -63,6 +88,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     progress.finish();
     let (spec, results) = (&plan.spec, &run.axes);
     let pass = results.iter().all(|r| r.margins.iter().all(|m| m.pass));
+    let modes_used = results.iter().map(|r| r.modes_used).max().unwrap_or(0);
     let p = Printer::new(args.json);
     let mut t = String::new();
     let _ = writeln!(
@@ -71,7 +97,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         args.scene.display(),
         spec.band().0,
         spec.band().1,
-        damping_text(&run.damping, scene.file.damping.is_some())
+        damping_text(&run.damping, scene.file.damping.is_some(), modes_used)
     );
     for r in results {
         let _ = writeln!(
@@ -124,7 +150,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
     p.human(&t);
     p.json(&Output {
         scene: args.scene.display().to_string(),
-        damping: damping_text(&run.damping, scene.file.damping.is_some()),
+        damping: damping_text(&run.damping, scene.file.damping.is_some(), modes_used),
         pass,
         axes: results,
     })?;
