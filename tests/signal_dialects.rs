@@ -1049,6 +1049,48 @@ fn uff58_complex_time_history_is_refused() {
     assert!(e.contains("export it as real values"), "{e}");
 }
 
+/// A record of function type 2 (auto spectrum, UFF58 record 6 field 1) is not a time history:
+/// the commands that read time histories and `psd` refuse it naming the file and the line of
+/// its `58` marker. The layout of `uff58` puts the first marker on line 2 and, after 11 header
+/// lines, 167 data lines (1000 values, 6 a line) and `-1`, the second on line 2 + 181 = 183.
+#[test]
+fn uff58_auto_spectrum_is_refused_at_its_line() {
+    let time = uff58("Acceleration", "g", 1.0);
+    let spectrum = time
+        .replacen("    1         0    0", "    2         0    0", 1)
+        .replace(
+            "        17    0    0    0 Time                 s                   \n",
+            "        18    0    0    0 Frequency            Hz                  \n",
+        )
+        .replace("sine               1   3", "spec               2   3");
+    assert_ne!(spectrum, time);
+    let alone = write("auto-spectrum.uff", &spectrum);
+    let e = satqual::signal::formats::read_log(&alone, &IngestOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(
+            "auto-spectrum.uff: line 2: no real, evenly spaced time history (UFF58 function type \
+             1) to read: `Acc 1` (line 2: function type 2 (auto spectrum), not a time history)"
+        ),
+        "{e}"
+    );
+    let e = psd_fails(&alone);
+    assert!(
+        e.contains("auto-spectrum.uff: line 2: record `Acc 1` is function type 2 (auto spectrum)"),
+        "{e}"
+    );
+    // Beside a time history, the spectrum named by ID line 4 `Acc 2` is the error, at line 183.
+    let both = format!("{time}{}", spectrum.replace("Acc 1", "Acc 2"));
+    let e = psd_fails(&write("time-and-auto.uff", &both));
+    assert!(
+        e.contains(
+            "time-and-auto.uff: line 183: record `Acc 2` is function type 2 (auto spectrum)"
+        ),
+        "{e}"
+    );
+}
+
 /// An uneven abscissa (record 7 spacing 0) written as pyuff writes it, `%13.5e` (six digits):
 /// a 2048 Hz time history's x values are rounded to 1e-9 s and less, so its steps differ by
 /// rounding only and it is evenly spaced. A real gap is refused naming the point and the

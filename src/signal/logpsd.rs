@@ -231,6 +231,50 @@ fn psd_of_log(log: Log, opts: &WelchOptions) -> Result<LogPsd, SignalError> {
     })
 }
 
+/// `psd` reads a UFF file's time histories (function type 1) or its PSDs (9), one kind per
+/// run: a record of another type, or of the other kind than the first record chosen, is an
+/// error at its line.
+fn check_one_kind(
+    path: &Path,
+    chosen: &[&(String, &super::uff::UffRecord)],
+) -> Result<(), SignalError> {
+    let Some((first_name, first)) = chosen.first().map(|c| (&c.0, c.1)) else {
+        return Ok(());
+    };
+    let odd = chosen.iter().find(|(_, r)| {
+        !matches!(r.function.function_type, 1 | 9)
+            || r.function.function_type != first.function.function_type
+    });
+    let Some((name, r)) = odd.map(|c| (&c.0, c.1)) else {
+        return Ok(());
+    };
+    let message = if matches!(r.function.function_type, 1 | 9) {
+        format!(
+            "record `{name}` is {} and `{first_name}` (line {}) {}: one run reads time \
+             histories (1) or PSDs (9), not both; name the records of one kind with --channels",
+            r.function_kind(),
+            first.line,
+            first.function_kind()
+        )
+    } else {
+        let ema = if r.function.function_type == 4 {
+            " (FRFs are fitted as measured by `satqual ema FILE`)"
+        } else {
+            ""
+        };
+        format!(
+            "record `{name}` is {}: `psd` reads time histories (function type 1) or PSDs \
+             (9){ema}",
+            r.function_kind()
+        )
+    };
+    Err(SignalError::Uff {
+        file: path.to_path_buf(),
+        line: r.line,
+        message,
+    })
+}
+
 fn psd_of_uff(
     path: &Path,
     ingest: &IngestOptions,
@@ -261,25 +305,8 @@ fn psd_of_uff(
             .collect::<Result<_, _>>()?,
         None => named.iter().collect(),
     };
-    let kinds: Vec<i64> = chosen
-        .iter()
-        .map(|(_, r)| r.function.function_type)
-        .collect();
-    let all_psd = kinds.iter().all(|&k| k == 9);
-    let all_time = kinds.iter().all(|&k| k == 1);
-    if !(all_psd || all_time) {
-        return Err(SignalError::Unsupported {
-            file: path.to_path_buf(),
-            message: format!(
-                "UFF58 function types {kinds:?}: expected all time histories (1) or all PSDs (9){}",
-                if kinds.contains(&4) {
-                    " (FRFs, type 4, are fitted by `satqual ema FILE`)"
-                } else {
-                    ""
-                }
-            ),
-        });
-    }
+    check_one_kind(path, &chosen)?;
+    let all_psd = chosen.iter().all(|(_, r)| r.function.function_type == 9);
     let channels: Vec<ChannelPsd> = chosen
         .par_iter()
         .map(|(name, r)| {

@@ -95,23 +95,28 @@ pub fn read_log(path: &Path, opts: &IngestOptions) -> Result<Log, SignalError> {
     }
 }
 
-/// A UFF file with no time history to read, with the command that reads what it holds.
-fn no_time_history(path: &Path, records: &[crate::signal::uff::UffRecord]) -> SignalError {
+/// A UFF file with no time history to read: the error is at the line of its first record,
+/// lists each record not read with its line and why (`ignored`), and names the command that
+/// reads what it holds.
+fn no_time_history(
+    path: &Path,
+    records: &[crate::signal::uff::UffRecord],
+    ignored: &[String],
+) -> SignalError {
     let has = |t: i64| records.iter().any(|r| r.function.function_type == t);
     let hint = if has(4) {
-        ": it holds FRFs (function type 4), which `satqual ema FILE` fits as measured"
+        "; FRFs (function type 4) are fitted as measured by `satqual ema FILE`"
     } else if has(9) {
-        ": it holds PSDs (function type 9), which `satqual psd FILE` reads"
+        "; PSDs (function type 9) are read by `satqual psd FILE`"
     } else {
         ""
     };
-    let mut types: Vec<i64> = records.iter().map(|r| r.function.function_type).collect();
-    types.dedup();
-    SignalError::Unsupported {
+    SignalError::Uff {
         file: path.to_path_buf(),
+        line: records.first().map_or(1, |r| r.line),
         message: format!(
-            "no real, evenly spaced time history (UFF58 function type 1) among its records \
-             (function types {types:?}){hint}"
+            "no real, evenly spaced time history (UFF58 function type 1) to read: {}{hint}",
+            ignored.join("; ")
         ),
     }
 }
@@ -151,14 +156,20 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
                     values: r.re.clone(),
                 });
             }
-            (t, _, _) => ignored.push(format!(
-                "`{name}` (line {}: function type {t}, not a real evenly spaced time history)",
+            // Refused when the record is parsed; named here should that ever change.
+            (1, true, _) => ignored.push(format!(
+                "`{name}` (line {}: a time history of complex values)",
                 r.line
+            )),
+            _ => ignored.push(format!(
+                "`{name}` (line {}: {}, not a time history)",
+                r.line,
+                r.function_kind()
             )),
         }
     }
     if series.is_empty() {
-        return Err(no_time_history(path, &file.records));
+        return Err(no_time_history(path, &file.records, &ignored));
     }
     Ok(Table {
         format: "uff",

@@ -119,6 +119,46 @@ pub struct Record6 {
     pub reference_direction: i64,
 }
 
+/// What function type `t` of record 6 (field 1) is, as the UFF58 description names it
+/// (`2` auto spectrum, `9` power spectral density), for messages about a record not read.
+pub fn function_type_name(t: i64) -> &'static str {
+    const NAMES: [&str; 28] = [
+        "general or unknown",
+        "time response",
+        "auto spectrum",
+        "cross spectrum",
+        "frequency response function",
+        "transmissibility",
+        "coherence",
+        "auto correlation",
+        "cross correlation",
+        "power spectral density",
+        "energy spectral density",
+        "probability density function",
+        "spectrum",
+        "cumulative frequency distribution",
+        "peaks valley",
+        "stress/cycles",
+        "strain/cycles",
+        "orbit",
+        "mode indicator function",
+        "force pattern",
+        "partial power",
+        "partial coherence",
+        "eigenvalue",
+        "eigenvector",
+        "shock response spectrum",
+        "finite impulse response filter",
+        "multiple coherence",
+        "order function",
+    ];
+    usize::try_from(t)
+        .ok()
+        .and_then(|k| NAMES.get(k))
+        .copied()
+        .unwrap_or("not a function type of the UFF58 description")
+}
+
 /// Record 6, format `I5,I10,I5,I10,1X,A10,I10,I4,1X,A10,I10,I4`: the entity names are read by
 /// column (they may hold blanks, "Mic 01"), the numbers around them by splitting.
 pub(super) fn record6(file: &Path, line: u64, text: &str) -> Result<Record6, SignalError> {

@@ -14,7 +14,7 @@ mod header;
 use crate::error::SignalError;
 use cursor::Cursor;
 use header::BinaryLayout;
-pub use header::Record6;
+pub use header::{Record6, function_type_name};
 use std::path::{Path, PathBuf};
 
 /// Data type, label and units label of one axis (UFF58 records 8-11).
@@ -74,6 +74,13 @@ pub struct UffRecord {
 impl UffRecord {
     pub fn is_complex(&self) -> bool {
         !self.im.is_empty()
+    }
+
+    /// Record 6's function type with its name, `function type 2 (auto spectrum)`, for
+    /// messages about what the record holds.
+    pub fn function_kind(&self) -> String {
+        let t = self.function.function_type;
+        format!("function type {t} ({})", function_type_name(t))
     }
 
     /// Spacing of an evenly spaced abscissa, or why it is not evenly spaced. Each step must be
