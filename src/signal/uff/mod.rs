@@ -9,6 +9,7 @@
 //! and listed.
 
 mod cursor;
+mod fortran;
 mod header;
 
 use crate::error::SignalError;
@@ -328,7 +329,7 @@ fn parse_record(
         .checked_mul(per_point)
         .ok_or_else(|| err(file, line_of(6), "number of data values overflows"))?;
     let (values, half_ulp) = match binary {
-        None => ascii_values(file, cur, need, r7.points, line_of(6), !r7.even)?,
+        None => ascii_values(file, cur, need, &r7, line_of(6))?,
         Some(layout) => binary_values(file, cur, need, &r7, layout, marker)?,
     };
     let (mut abscissa, re, im) = split_points(&values, &r7, complex);
@@ -402,27 +403,25 @@ fn abscissa_scale(axis: &AxisInfo, line: u64) -> Result<f64, String> {
 }
 
 /// Half a unit of the last digit written in a number token: `4.88281e-04` gives 5e-10,
-/// `12.5` 0.05, `3` 0.5.
+/// `12.5` 0.05, `3` 0.5, Fortran's `0.12345-100` 5e-106.
 fn token_half_ulp(tok: &str) -> f64 {
-    let t = tok.trim_start_matches(['+', '-']);
-    let (mantissa, exponent) = match t.find(['e', 'E', 'd', 'D']) {
-        Some(i) => (&t[..i], t[i + 1..].parse::<i32>().unwrap_or(0)),
-        None => (t, 0),
-    };
+    let (mantissa, exponent) = fortran::split(tok).unwrap_or((tok, 0));
     let decimals = mantissa.split_once('.').map_or(0, |(_, f)| f.len() as i32);
     0.5 * 10f64.powi(exponent - decimals)
 }
 
-/// ASCII data: numbers up to the closing `-1`, exactly `need` of them; with `resolution`, also
+/// ASCII data: numbers up to the closing `-1`, exactly `need` of them, in the fields of the
+/// format record 7 declares (see [`fortran`]); for an abscissa written point by point, also
 /// half a unit of the last written digit of each (see [`token_half_ulp`]).
 fn ascii_values(
     file: &Path,
     cur: &mut Cursor,
     need: usize,
-    points: usize,
+    r7: &header::Record7,
     record7_line: u64,
-    resolution: bool,
 ) -> Result<(Vec<f64>, Vec<f64>), SignalError> {
+    let (points, resolution, ordinate_type) = (r7.points, !r7.even, r7.ordinate_type);
+    let (widths, format) = fortran::line_format(ordinate_type, r7.even);
     let mut values: Vec<f64> = Vec::with_capacity(need.min(1 << 24));
     let mut half_ulp: Vec<f64> = Vec::new();
     let first_data_line = cur.line();
@@ -450,14 +449,20 @@ fn ascii_values(
         }
         check_text(file, line_no, &l)?;
         last_data_line = line_no;
-        for tok in l.split_whitespace() {
-            // Fortran may write D exponents.
-            let v: f64 = if tok.contains(['D', 'd']) {
-                tok.replace(['D', 'd'], "E").parse()
-            } else {
-                tok.parse()
-            }
-            .map_err(|_| err(file, line_no, format!("cannot parse number `{tok}`")))?;
+        let tokens = fortran::tokens(&l, widths).map_err(|bad| {
+            err(
+                file,
+                line_no,
+                format!(
+                    "field {} (columns {}–{}): cannot parse `{}` as a number (the data lines \
+                     of ordinate data type {ordinate_type} are {format}, read at blanks or, \
+                     where fields touch, by column)",
+                    bad.field, bad.columns.0, bad.columns.1, bad.text
+                ),
+            )
+        })?;
+        for tok in tokens {
+            let v = fortran::number(tok).unwrap_or(f64::NAN);
             if !v.is_finite() {
                 return Err(err(file, line_no, format!("non-finite value `{tok}`")));
             }
@@ -702,7 +707,68 @@ fn density_unit(label: &str) -> Option<crate::signal::ingest::Unit> {
 
 #[cfg(test)]
 mod tests {
-    use super::{Record6, density_unit, half_f32_ulp, point_label, token_half_ulp};
+    use super::{Record6, density_unit, half_f32_ulp, parse_uff58, point_label, token_half_ulp};
+    use std::path::Path;
+
+    /// Records 1-11 of a record of ordinate type `r7` (its record 7 line) as a catman export
+    /// writes them: a time history in g, its abscissa in s.
+    fn catman_header(r7: &str) -> String {
+        format!(
+            "    -1\n    58\ncatman\nNONE\nNONE\nAcc 1\nNONE\n\
+             {:5}{:10}{:5}{:10} {:<10}{:10}{:4} {:<10}{:10}{:4}\n{r7}\n\
+             {:>10}    0    0    0 Time                 s                   \n\
+             {:>10}    0    0    0 Acceleration         g                   \n\
+             {:>10}    0    0    0 NONE                 NONE                \n\
+             {:>10}    0    0    0 NONE                 NONE                \n",
+            1, 0, 0, 0, "Acc 1", 1, 3, "NONE", 0, 0, 17, 12, 0, 0
+        )
+    }
+
+    /// E13.5 fields as old Fortran and C writers leave them (the UFF58 description's `6E13.5`
+    /// for ordinate type 2): Fortran's `0.12345-100` (the `E` dropped for a three-digit
+    /// exponent) and C's `-1.23456e-100`, which fills its 13 columns and touches the field
+    /// before it. Each value must be the decimal written, to the f64 nearest it (exact).
+    #[test]
+    fn three_digit_exponents_read_in_their_e13_5_fields() {
+        let text =
+            catman_header("         2         8         1  0.00000E+00  0.10000E-02  0.00000E+00")
+                + "  0.12345E+01  0.12345-100 -0.54321-101  0.10000E+00-1.23456e-100-2.50000e-100\n"
+                + "  0.50000E+00  0.25000E+00\n    -1\n";
+        let r = &parse_uff58(Path::new("catman.uff"), text.as_bytes()).unwrap()[0];
+        let want = [
+            1.2345,
+            0.12345e-100,
+            -0.54321e-101,
+            0.1,
+            -1.23456e-100,
+            -2.5e-100,
+            0.5,
+            0.25,
+        ];
+        assert_eq!(r.re, want);
+        // A field that is no number is named by its line (the first data line is 14), its
+        // place and its columns.
+        let bad = text.replace("  0.12345-100", "  0.1234x-100");
+        let e = parse_uff58(Path::new("catman.uff"), bad.as_bytes()).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("catman.uff: line 14: field 2 (columns 14–26): cannot parse `0.1234x-100` as a number (the data lines of ordinate data type 2 are 6E13.5"),
+            "{e}"
+        );
+    }
+
+    /// Ordinate type 4 with an uneven abscissa is `2(E13.5,E20.12)`: a 20-column double
+    /// `-1.500000000000e-100` touches the abscissa before it.
+    #[test]
+    fn touching_double_fields_read_by_their_columns() {
+        let text =
+            catman_header("         4         3         0  0.00000E+00  0.00000E+00  0.00000E+00")
+                + "  0.00000e+00-1.500000000000e-100  1.00000e-03  2.500000000000e+00\n"
+                + "  2.00000e-03-3.250000000000e-101\n    -1\n";
+        let r = &parse_uff58(Path::new("d.uff"), text.as_bytes()).unwrap()[0];
+        assert_eq!(r.abscissa, [0.0, 1e-3, 2e-3]);
+        assert_eq!(r.re, [-1.5e-100, 2.5, -3.25e-101]);
+    }
 
     /// Half a unit of the last written digit, by construction of the decimal forms: six
     /// digits at 1e-4 (`%13.5e` of 1/2048 s) resolve 1e-9, so half of it is 5e-10.
