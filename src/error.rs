@@ -106,7 +106,7 @@ pub enum ResponseError {
 pub enum SignalError {
     #[error("{}: the file is empty", file.display())]
     EmptyFile { file: PathBuf },
-    #[error("{}: looks like a binary file (byte 0x{byte:02x} at offset {offset}); expected a text log (CSV, LabVIEW .lvm), UFF58/58b or a MATLAB v5 .mat file", file.display())]
+    #[error("{}: looks like a binary file (byte 0x{byte:02x} at offset {offset}); expected a text log (CSV, LabVIEW .lvm), UFF58/58b, a MATLAB .mat file (level 4 or 5), TDMS or WAV", file.display())]
     BinaryFile {
         file: PathBuf,
         offset: usize,

@@ -413,6 +413,112 @@ fn mat_vectors_with_a_rate_scalar_and_fs_checks() {
     );
 }
 
+/// One Level 4 matrix as `save -v4` and `scipy.io.savemat(format='4')` write it (MathWorks,
+/// "MAT-File Format", Level 4): MOPT, mrows, ncols, imagf, namlen as 32-bit integers in the
+/// byte order MOPT's M digit names, the name with its NUL, the values column by column.
+fn mat4_matrix(
+    big: bool,
+    mopt: i32,
+    dims: (i32, i32),
+    imagf: i32,
+    name: &str,
+    data: &[u8],
+) -> Vec<u8> {
+    let int = |v: i32| {
+        if big {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        }
+    };
+    let mut out = Vec::new();
+    for v in [mopt, dims.0, dims.1, imagf, name.len() as i32 + 1] {
+        out.extend(int(v));
+    }
+    out.extend(name.as_bytes());
+    out.push(0);
+    out.extend(data);
+    out
+}
+
+/// A lab's `save log.mat fs acc_g units -v4`: `fs` 1000 (1x1 double), `acc_g` a 2 g, 50 Hz
+/// sine over 1 s (1x1000), `units` the text 'g' (MOPT 51, as scipy writes text). Read as a
+/// level 5 file is: the vector is the channel, `fs` the rate, the text listed as not read.
+/// Doubles: RMS 2/√2 to the summation error of 1000 terms (1e-12); the big-endian single
+/// precision file (MOPT 1010) to f32's 24-bit significand (6e-8 relative, 1e-7 taken).
+#[test]
+fn mat_level_4_files_read_like_level_5() {
+    let n: i32 = 1000;
+    let sine: Vec<f64> = (0..n)
+        .map(|i| 2.0 * (2.0 * std::f64::consts::PI * 50.0 * i as f64 / 1000.0).sin())
+        .collect();
+    let dir = crate::common::temp_dir("formats-mat4");
+    let le = |v: &[f64]| -> Vec<u8> { v.iter().flat_map(|x| x.to_le_bytes()).collect() };
+    let mut file = mat4_matrix(false, 0, (1, 1), 0, "fs", &le(&[1000.0]));
+    file.extend(mat4_matrix(false, 0, (1, n), 0, "acc_g", &le(&sine)));
+    file.extend(mat4_matrix(false, 51, (1, 1), 0, "units", b"g"));
+    let p = dir.join("le.mat");
+    std::fs::write(&p, &file).unwrap();
+    assert_eq!(satqual::signal::formats::detect(&p), LogFormat::Mat);
+    let log = read_log(&p, &IngestOptions::default()).unwrap();
+    assert_eq!(log.info.fs_hz, 1000.0);
+    assert_eq!(log.info.channels[0].name, "acc_g");
+    assert_eq!(log.info.channels[0].unit, Unit::G);
+    let want = 2.0 / 2f64.sqrt();
+    assert!(
+        (rms(&log.data[0]) - want).abs() < 1e-12,
+        "{}",
+        rms(&log.data[0])
+    );
+    let ignored = log.info.ingest.ignored_columns.join("; ");
+    assert!(
+        ignored.contains("`units` (text matrix (MOPT type 1))"),
+        "{ignored}"
+    );
+    // Big-endian single precision, the channel a column (1000x1), the rate from `--fs`.
+    let be: Vec<u8> = sine
+        .iter()
+        .flat_map(|x| (*x as f32).to_be_bytes())
+        .collect();
+    let p = dir.join("be.mat");
+    std::fs::write(&p, mat4_matrix(true, 1010, (n, 1), 0, "acc_g", &be)).unwrap();
+    let fs = IngestOptions {
+        fs: Some(1000.0),
+        ..IngestOptions::default()
+    };
+    let log = read_log(&p, &fs).unwrap();
+    assert!(
+        (rms(&log.data[0]) - want).abs() < 1e-7 * want,
+        "{}",
+        rms(&log.data[0])
+    );
+    // A complex matrix alone: nothing to read, and the message says why.
+    let p = dir.join("complex.mat");
+    std::fs::write(
+        &p,
+        mat4_matrix(false, 0, (1, 2), 1, "z", &le(&[1.0, 2.0, 3.0, 4.0])),
+    )
+    .unwrap();
+    let e = read_log(&p, &fs).unwrap_err().to_string();
+    assert!(
+        e.contains("complex.mat: no channel to read")
+            && e.contains("`z` (complex matrix (imagf 1)"),
+        "{e}"
+    );
+    // Cut inside the values of `acc_g`: an error naming the matrix, never a short channel.
+    let p = dir.join("cut.mat");
+    std::fs::write(&p, &file[..file.len() - 100]).unwrap();
+    let e = read_log(&p, &fs).unwrap_err().to_string();
+    // `fs` takes 20 + 3 + 8 = 31 bytes; the cut takes the 27 of `units` and 73 of `acc_g`.
+    assert!(
+        e.contains(
+            "cut.mat: MATLAB level 4 MAT-file: matrix 2 (byte 31): `acc_g` (1x1000) needs 8000 \
+             bytes of values, but the file ends 7927 bytes after its name"
+        ),
+        "{e}"
+    );
+}
+
 #[test]
 fn mat_files_matlab_wrote_are_read_or_refused_by_name() {
     let d = |f: &str| repo_path(&format!("data/realdata/scipy-matlab/{f}"));

@@ -1,6 +1,6 @@
 //! Which format a log file is in, and reading any of them into a [`Log`]: CSV-like text
 //! ([`crate::signal::ingest`], streamed), UFF58/58b time histories ([`crate::signal::uff`]),
-//! LabVIEW `.lvm` ([`lvm`]), MATLAB level 5 `.mat` ([`mat`]), NI TDMS ([`tdms`]) and WAV
+//! LabVIEW `.lvm` ([`lvm`]), MATLAB level 4 and 5 `.mat` ([`mat`]), NI TDMS ([`tdms`]) and WAV
 //! ([`wav`]). The format is told by the file's first bytes, never by its extension.
 
 pub mod lvm;

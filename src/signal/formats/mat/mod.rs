@@ -1,6 +1,7 @@
 //! MATLAB level 5 MAT-files (`save` with `-v6` or `-v7`, the default, whose variables are
 //! zlib-compressed), the way labs save logs: vectors and matrices at the top level or as the
 //! fields of a struct, a scalar sampling rate (`fs`) or a time vector (`t`, `time`) beside them.
+//! Level 4 files (`save -v4`, [`v4`]) hold matrices only and go through the same rules.
 //!
 //! Hand-written: of the Rust crates, `matfile` reads numeric arrays only (no structs) and
 //! `matrw` (0.1) unwraps on malformed input, which must give an error here, never a panic. The
@@ -18,6 +19,7 @@
 //!   are listed.
 
 mod elements;
+mod v4;
 
 use super::table::{Rate, Series, Table, keep_common_length};
 use crate::error::SignalError;
@@ -25,8 +27,13 @@ use crate::signal::ingest::time_column_unit;
 use elements::{Reader, Value};
 use std::path::Path;
 
-/// The first bytes of a level 5 MAT-file's text header.
+/// The first bytes of a level 5 MAT-file's text header, or a level 4 file's first matrix
+/// header.
 pub fn looks_like_mat(head: &[u8]) -> bool {
+    looks_like_mat5(head) || v4::looks_like_mat4(head)
+}
+
+fn looks_like_mat5(head: &[u8]) -> bool {
     head.starts_with(b"MATLAB ") && head.get(10..19) == Some(b" MAT-file".as_slice())
 }
 
@@ -37,8 +44,14 @@ fn unsupported(path: &Path, message: impl Into<String>) -> SignalError {
     }
 }
 
-/// Reads the variables of a MAT-file into named columns.
+/// Reads the variables of a MAT-file (level 5, or level 4 when it has no level 5 header)
+/// into named columns.
 pub fn read_mat(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
+    if !looks_like_mat5(bytes) && v4::looks_like_mat4(bytes) {
+        let vars = v4::read_mat4(bytes)
+            .map_err(|e| unsupported(path, format!("MATLAB level 4 MAT-file: {e}")))?;
+        return Ok(to_table(path, vars, 4));
+    }
     if bytes.len() < 128 {
         return Err(unsupported(
             path,
@@ -73,7 +86,7 @@ pub fn read_mat(path: &Path, bytes: &[u8]) -> Result<Table, SignalError> {
             Err(e) => return Err(unsupported(path, format!("variable {k}: {e}"))),
         }
     }
-    Ok(to_table(path, vars))
+    Ok(to_table(path, vars, 5))
 }
 
 /// Words that name a sampling rate, in Hz, and an interval, in s.
@@ -97,7 +110,8 @@ struct Found {
     notes: Vec<String>,
 }
 
-fn to_table(path: &Path, vars: Vec<(String, Value)>) -> Table {
+/// The channels, rate and time vector of a file's variables (`level`: 4 or 5, for the note).
+fn to_table(path: &Path, vars: Vec<(String, Value)>, level: u8) -> Table {
     let mut f = Found {
         series: Vec::new(),
         rate: None,
@@ -120,7 +134,7 @@ fn to_table(path: &Path, vars: Vec<(String, Value)>) -> Table {
         (None, None) => Rate::Unknown,
     };
     let mut notes = vec![format!(
-        "{}: MATLAB MAT-file, {} channel(s)",
+        "{}: MATLAB level {level} MAT-file, {} channel(s)",
         path.display(),
         f.series.len()
     )];
