@@ -1141,6 +1141,76 @@ fn uff58_uneven_abscissa_rounded_to_six_digits_is_uniform() {
     assert!(e.contains("off the mean step"), "{e}");
 }
 
+/// `psd --json` of `p` with `args`, and stderr.
+fn psd_with(p: &std::path::Path, args: &[&str]) -> (serde_json::Value, String) {
+    let mut all = vec!["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"];
+    all.extend(args);
+    let (code, out, err) = crate::common::run_text(&all, None);
+    assert_eq!(code, 0, "{err}");
+    (serde_json::from_str(&out).unwrap(), err)
+}
+
+/// An oscilloscope's vertical unit is the channel's: an MSO export's preamble `Vertical
+/// Units,V` (above `TIME,CH1`, read as delimited text) labels the channel V, a Tektronix
+/// spreadsheet's `Vertical Units,mV` and a Rigol's `Volt` keep theirs, and `--units g` for all
+/// channels does not turn volts into g (a note says so); `--units CH1=g` does, as asked. The
+/// values are this file's sine, 2 V amplitude: RMS 2/√2 V, or 1000 times that in mV written
+/// to 6 decimals (both to 1e-6 relative).
+#[test]
+fn a_scopes_vertical_unit_is_kept_and_volts_are_not_taken_as_g() {
+    let mv_rows = |sep: &str| -> String {
+        (0..N)
+            .map(|i| format!("{:.9}{sep}{:.6}\n", i as f64 / FS, 1000.0 * sample(i)))
+            .collect()
+    };
+    let mso = format!(
+        "Model,MSO58\nFirmware Version,1.20.4\n\nWaveform Type,ANALOG\nPoint Format,Y\n\
+         Horizontal Units,s\nSample Interval,0.001\nRecord Length,{N}\nVertical Units,V\n\
+         Vertical Offset,0\nVertical Scale,0.5\nLabel,\nTIME,CH1\n{}",
+        rows(",", 1.0, 0.0, false)
+    );
+    let settings = [
+        "Record Length,1000,Points",
+        "Sample Interval,0.001,s",
+        "Source,CH1,",
+        "Vertical Units,mV,",
+    ];
+    let tek: String = mv_rows(",")
+        .lines()
+        .enumerate()
+        .map(|(i, row)| format!("{},{row},\r\n", settings.get(i).unwrap_or(&",,")))
+        .collect();
+    let rigol = format!(
+        "X,CH1,Start,Increment,\nSequence,Volt,0,1.000000e-03\n{}",
+        (0..N)
+            .map(|i| format!("{i},{:.9},\n", sample(i)))
+            .collect::<String>()
+    );
+    let one = 2.0 / 2f64.sqrt();
+    for (name, text, unit, rms) in [
+        ("mso-volts.csv", mso, "V", one),
+        ("tek-millivolts.csv", tek, "mV", 1000.0 * one),
+        ("rigol-volts.csv", rigol, "Volt", one),
+    ] {
+        let p = write(name, &text);
+        for args in [&[][..], &["--units", "g"]] {
+            let (v, err) = psd_with(&p, args);
+            let ch = &v["channels"][0];
+            assert_eq!(ch["unit"], unit, "{name} {args:?}: {err}");
+            let got = ch["rms"].as_f64().unwrap();
+            assert!((got - rms).abs() < 1e-6 * rms, "{name}: {got}");
+            if !args.is_empty() {
+                let note = format!(
+                    "channel `CH1` is in {unit} as the file states, an electrical unit: kept in {unit}, not taken as g by --units g"
+                );
+                assert!(err.contains(&note), "{name}: {err}");
+            }
+        }
+        let (v, _) = psd_with(&p, &["--units", "CH1=g"]);
+        assert_eq!(v["channels"][0]["unit"], "g", "{name}");
+    }
+}
+
 /// Siglent oscilloscope CSV: `Second` names the time column (bin2csv writes `Second,Volt`
 /// under its preamble), and the SDS2000X+'s last preamble line `Software Version,1.3.7R5,`
 /// is not the header over a units row `Second,Value`. Rows: the 1000 Hz sine of this file,

@@ -3,8 +3,9 @@
 //! - Tektronix (the TDS/TBS "spreadsheet" export, one channel per file): the settings as
 //!   `key,value,unit` in the first three columns of the first rows, beside the samples as time
 //!   and value in columns four and five, no header line. The channel is named by `Source`, its
-//!   unit is `Vertical Units`, the rate comes from the time column, which `Sample Interval`
-//!   must agree with.
+//!   unit is `Vertical Units` (an electrical one, `V`, is kept by [`super::table`] and never
+//!   taken as g), the rate comes from the time column, which `Sample Interval` must agree
+//!   with.
 //! - Rigol (DS1000Z and kin): a header `X,CH1,...,Start,Increment`, a second line `Sequence`,
 //!   the channels' units, the start time and the sample interval, then rows of a sample number
 //!   and the channels' values. The rate is 1 / `Increment`.

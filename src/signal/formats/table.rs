@@ -58,7 +58,8 @@ pub struct Table {
 }
 
 /// The unit of a column: a `--units` entry for it, then the unit label the file gives (`g`,
-/// `m/s2`), then its name, then the default unit of the read.
+/// `m/s2`), then its name, then the default unit of the read; a column the file states in
+/// volts keeps them (see [`crate::signal::ingest::unit::is_electrical`]).
 fn unit_of(s: &Series, opts: &IngestOptions) -> (Unit, UnitSource) {
     if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == s.name) {
         return (*u, UnitSource::Option);
@@ -66,6 +67,9 @@ fn unit_of(s: &Series, opts: &IngestOptions) -> (Unit, UnitSource) {
     let stated = Unit::parse(&s.unit_label).ok().filter(|u| *u != Unit::AsIs);
     if let Some(u) = stated.or_else(|| Unit::from_name(&s.name)) {
         return (u, UnitSource::Name);
+    }
+    if crate::signal::ingest::unit::is_electrical(&s.unit_label) {
+        return (Unit::AsIs, UnitSource::Name);
     }
     match opts.default_unit {
         Some(u) => (u, UnitSource::Option),
@@ -317,6 +321,7 @@ pub fn table_to_log(path: &Path, t: Table, opts: &IngestOptions) -> Result<Log, 
     }
     let overridden = opts.fs_override && opts.fs.is_some();
     let mut notes = t.notes;
+    notes.extend(crate::signal::ingest::electrical_notes(&channels, opts));
     if overridden && !matches!(t.rate, Rate::Unknown) {
         notes.push(format!(
             "{}: {} ignored: --fs-override uses --fs {fs} Hz",

@@ -473,6 +473,7 @@ fn plain_dialect(path: &Path, head: &[u8]) -> Result<Dialect, SignalError> {
         second_row: Vec::new(),
         preamble_rate: None,
         preamble_unit: None,
+        preamble_electrical: None,
     })
 }
 
@@ -744,7 +745,14 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
     }
     let rate_stated = fs_from_metadata.is_some() || is_rate_column_present(&header, &ignored);
     let selected = select_columns(file, &header, time_col, &ignored, rate_stated, opts)?;
+    if let Some((label, line)) = &d.preamble_electrical {
+        notes.push(format!(
+            "unit {label} read from line {line}, for the channels whose header states none: \
+             an electrical unit, their values are kept as they are"
+        ));
+    }
     let channels = channel_infos(&header, &selected, d, opts);
+    notes.extend(electrical_notes(&channels, opts));
     let record = IngestRecord {
         delimiter: d.delimiter.name(),
         decimal: if d.decimal_comma { "," } else { "." },
@@ -904,6 +912,19 @@ fn is_rate_column_present(header: &[String], ignored: &[usize]) -> bool {
     ignored.iter().any(|&i| is_rate_name(&header[i]))
 }
 
+/// A note for each channel kept in the electrical unit its file states while `--units` gives
+/// one unit for all.
+pub(crate) fn electrical_notes(channels: &[ChannelInfo], opts: &IngestOptions) -> Vec<String> {
+    let Some(default) = opts.default_unit else {
+        return Vec::new();
+    };
+    channels
+        .iter()
+        .filter(|c| c.unit == Unit::AsIs && unit::is_electrical(&c.unit_label))
+        .map(|c| unit::electrical_note(&c.name, &c.unit_label, default))
+        .collect()
+}
+
 fn channel_infos(
     header: &[String],
     selected: &[usize],
@@ -918,6 +939,12 @@ fn channel_infos(
                 u[i].trim().trim_matches(['[', ']', '(', ')']).trim()
             });
             let row_unit = Unit::parse(row_text).ok().filter(|u| *u != Unit::AsIs);
+            // The unit text the file gives the channel: in its name, its units row, else
+            // an electrical unit above the header.
+            let stated = match unit::bracketed(&name).unwrap_or(row_text) {
+                "" => d.preamble_electrical.as_ref().map_or("", |p| p.0.as_str()),
+                text => text,
+            };
             let (unit, unit_source) =
                 if let Some((_, u)) = opts.channel_units.iter().find(|(n, _)| *n == name) {
                     (*u, UnitSource::Option)
@@ -926,13 +953,15 @@ fn channel_infos(
                     .or(d.preamble_unit.map(|p| p.0))
                 {
                     (u, UnitSource::Name)
+                } else if unit::is_electrical(stated) {
+                    (Unit::AsIs, UnitSource::Name)
                 } else if let Some(u) = opts.default_unit {
                     (u, UnitSource::Option)
                 } else {
                     (Unit::AsIs, UnitSource::Default)
                 };
             let unit_label = match unit {
-                Unit::AsIs => unit::kept_label(unit::bracketed(&name).unwrap_or(row_text)),
+                Unit::AsIs => unit::kept_label(stated),
                 _ => String::new(),
             };
             ChannelInfo {

@@ -72,6 +72,9 @@ pub struct Dialect {
     pub preamble_rate: Option<(f64, u64)>,
     /// A unit stated above the header for every channel (`# Units: g`), and its line.
     pub preamble_unit: Option<(super::unit::Unit, u64)>,
+    /// An electrical unit stated above the header for every channel (`Vertical Units,V`),
+    /// as written, and its line.
+    pub preamble_electrical: Option<(String, u64)>,
 }
 
 fn is_comment(line: &str) -> bool {
@@ -262,6 +265,9 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
     });
     let preamble_unit = (0..preamble_end)
         .find_map(|i| super::preamble_unit::unit_of_line(lines[i].1).map(|u| (u, i as u64 + 1)));
+    let preamble_electrical = (0..preamble_end).find_map(|i| {
+        super::preamble_unit::electrical_of_line(lines[i].1).map(|u| (u, i as u64 + 1))
+    });
     Some(Dialect {
         delimiter,
         decimal_comma: dec,
@@ -279,6 +285,7 @@ pub fn sniff_dialect(head: &[u8], eof: bool) -> Option<Dialect> {
         second_row: rows.get(1).cloned().unwrap_or_default(),
         preamble_rate,
         preamble_unit,
+        preamble_electrical,
     })
 }
 

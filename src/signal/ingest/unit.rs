@@ -81,6 +81,42 @@ pub fn kept_label(text: &str) -> String {
     }
 }
 
+/// Whether a unit label is an electrical one (`V`, `mV`, `µV`, `Volt`, `Volts`), as
+/// oscilloscopes and DAQs label a raw reading: it becomes an acceleration only through the
+/// sensor's sensitivity, which the file does not give, so `--units g` for all channels does
+/// not make it g (only `--units NAME=g` for the channel does).
+pub fn is_electrical(label: &str) -> bool {
+    let n = label.trim().to_lowercase();
+    let volts = [
+        "v",
+        "mv",
+        "uv",
+        "µv",
+        "μv",
+        "kv",
+        "volt",
+        "volts",
+        "millivolt",
+        "millivolts",
+        "microvolt",
+        "microvolts",
+    ];
+    volts.contains(&n.as_str())
+}
+
+/// The note for a channel kept in the electrical unit its file states while `--units` gives
+/// one unit for every channel.
+pub fn electrical_note(channel: &str, label: &str, default: Unit) -> String {
+    format!(
+        "channel `{channel}` is in {label} as the file states, an electrical unit: kept in \
+         {label}, not taken as {} by --units {}; pass --units \"{channel}={}\" if its values \
+         are accelerations",
+        default.label(),
+        default.label(),
+        default.label()
+    )
+}
+
 impl Unit {
     pub fn parse(s: &str) -> Result<Unit, SignalError> {
         let n = normalise_unit(s);
@@ -214,6 +250,19 @@ mod tests {
         }
         assert!(Unit::parse("N").is_err());
         assert!(Unit::parse("Deg C").is_err());
+    }
+
+    /// The electrical units oscilloscopes write (`Vertical Units,V`, Rigol's `Volt`); an
+    /// acceleration, a force or a blank is none.
+    #[test]
+    fn volts_are_electrical_units() {
+        use super::is_electrical;
+        for v in ["V", "mV", " mv ", "µV", "uV", "Volt", "Volts", "millivolts"] {
+            assert!(is_electrical(v), "{v}");
+        }
+        for other in ["g", "m/s2", "N", "", "VV", "dB"] {
+            assert!(!is_electrical(other), "{other}");
+        }
     }
 
     /// A unit in brackets at the end of a name states the channel's unit; a bare `_g` too.
