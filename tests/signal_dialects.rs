@@ -1211,6 +1211,32 @@ fn a_scopes_vertical_unit_is_kept_and_volts_are_not_taken_as_g() {
     }
 }
 
+/// A UFF58 time history whose units field (record 9) is `V` keeps its volts under `--units g`
+/// as the scope readers do, in `psd` (with the note) and in the commands reading through
+/// `read_log`; `--units "Acc 1=g"` takes it as g. RMS 2/√2 V to the 6 digits of E13.5 (1e-5).
+#[test]
+fn uff58_volts_are_not_taken_as_g() {
+    let p = write("volts.uff", &uff58("Voltage", "V", 1.0));
+    let (v, err) = psd_with(&p, &["--units", "g"]);
+    assert_eq!(v["channels"][0]["unit"], "V", "{err}");
+    let rms = v["channels"][0]["rms"].as_f64().unwrap();
+    let want = 2.0 / 2f64.sqrt();
+    assert!((rms - want).abs() < want * 1e-5, "{rms}");
+    assert!(
+        err.contains("channel `Acc 1` is in V as the file states"),
+        "{err}"
+    );
+    let opts = IngestOptions {
+        default_unit: Some(Unit::G),
+        ..IngestOptions::default()
+    };
+    let log = satqual::signal::formats::read_log(&p, &opts).unwrap();
+    assert_eq!(log.info.channels[0].unit, Unit::AsIs);
+    assert_eq!(log.info.channels[0].unit_label, "V");
+    let (v, _) = psd_with(&p, &["--units", "Acc 1=g"]);
+    assert_eq!(v["channels"][0]["unit"], "g");
+}
+
 /// Siglent oscilloscope CSV: `Second` names the time column (bin2csv writes `Second,Volt`
 /// under its preamble), and the SDS2000X+'s last preamble line `Software Version,1.3.7R5,`
 /// is not the header over a units row `Second,Value`. Rows: the 1000 Hz sine of this file,

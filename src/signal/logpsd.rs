@@ -306,6 +306,9 @@ fn psd_of_uff(
         None => named.iter().collect(),
     };
     check_one_kind(path, &chosen)?;
+    let kept: Vec<(&String, &super::uff::UffRecord)> =
+        chosen.iter().map(|(n, r)| (n, *r)).collect();
+    let notes = super::uff::electrical_notes(&kept, ingest);
     let all_psd = chosen.iter().all(|(_, r)| r.function.function_type == 9);
     let channels: Vec<ChannelPsd> = chosen
         .par_iter()
@@ -378,6 +381,6 @@ fn psd_of_uff(
         fs_hz,
         info: None,
         channels,
-        notes: Vec::new(),
+        notes,
     })
 }

@@ -146,8 +146,10 @@ fn uff_table(path: &Path, opts: &IngestOptions) -> Result<Table, SignalError> {
                 if matches!(rate, Rate::Unknown) {
                     rate = Rate::Stated(1.0 / step, format!("the abscissa increment of `{name}`"));
                 }
+                // A record kept as it is hands on its units field (`V`, `Pa`), which the
+                // table keeps as its label.
                 let unit_label = match ordinate_unit(&r.ordinate_label, opts, &name) {
-                    Unit::AsIs => "",
+                    Unit::AsIs => r.ordinate_label.as_str(),
                     unit => unit.label(),
                 };
                 series.push(Series {

@@ -674,7 +674,8 @@ pub fn looks_like_uff(path: &Path) -> bool {
 }
 
 /// The unit of a record's channel: a `--units` entry for the channel wins, then the record's
-/// units field (an acceleration unit [`Unit::parse`] knows), then the default unit of the read.
+/// units field (an acceleration unit [`Unit::parse`] knows; volts are kept, see
+/// [`crate::signal::ingest::unit::is_electrical`]), then the default unit of the read.
 pub(crate) fn ordinate_unit(
     label: &str,
     ingest: &crate::signal::ingest::IngestOptions,
@@ -686,8 +687,30 @@ pub(crate) fn ordinate_unit(
     }
     match Unit::parse(label).ok().or_else(|| density_unit(label)) {
         Some(unit) if unit != Unit::AsIs => unit,
+        // Volts become g only through a sensitivity the record does not give.
+        _ if crate::signal::ingest::unit::is_electrical(label) => Unit::AsIs,
         _ => ingest.default_unit.unwrap_or(Unit::AsIs),
     }
+}
+
+/// The notes for the records `psd` and `srs` keep in the volts their units field states while
+/// `--units` gives one unit for all (`named`: channel name and record).
+pub(crate) fn electrical_notes(
+    named: &[(&String, &UffRecord)],
+    ingest: &crate::signal::ingest::IngestOptions,
+) -> Vec<String> {
+    use crate::signal::ingest::unit::{electrical_note, is_electrical};
+    let Some(default) = ingest.default_unit else {
+        return Vec::new();
+    };
+    named
+        .iter()
+        .filter(|(name, r)| {
+            is_electrical(&r.ordinate_label)
+                && !ingest.channel_units.iter().any(|(n, _)| n == *name)
+        })
+        .map(|(name, r)| electrical_note(name, &r.ordinate_label, default))
+        .collect()
 }
 
 /// The unit of a spectral density's label, the unit squared per hertz as controllers write it
