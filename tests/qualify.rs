@@ -633,7 +633,7 @@ fn qualify_test_data(name: &str, from: &str, to: &str) -> (Option<i32>, String) 
 #[test]
 fn test_log_control_and_reference_profile_are_checked_not_guessed() {
     // (case, text replaced, replacement, every part the error must hold)
-    let cases: [(&str, &str, &str, &[&str]); 3] = [
+    let cases: [(&str, &str, &str, &[&str]); 4] = [
         (
             "control-name",
             "control = \"Channel 1\"",
@@ -649,6 +649,20 @@ fn test_log_control_and_reference_profile_are_checked_not_guessed() {
             "control = \"Channel 1\"",
             "control = \"Channel 1\"\nprofile = \"random\"",
             &["test_log[0].profile", "give one of them"],
+        ),
+        (
+            // impact_1.csv's time column gives 25600 Hz (its SOURCE.md; times written to 8
+            // decimals, so 25599.999936 over the record): a scene rate that contradicts it is
+            // the scene's error, named at its key with the scene's cure.
+            "fs-against-time-column",
+            "kind = \"signature-before\"",
+            "kind = \"signature-before\"\nfs_hz = 20000.0",
+            &[
+                "key `test_log[1].fs_hz`",
+                "fs_hz 20000 Hz disagrees with the time column",
+                "which gives 25599.99",
+                "remove fs_hz: the file states its own rate",
+            ],
         ),
         (
             "profile-order",

@@ -365,6 +365,7 @@ pub fn test_log(scene: &Scene, index: usize, t: &TestLogSpec) -> Result<TestLogP
         responses: t.responses.clone(),
         ingest: IngestOptions {
             fs: t.fs_hz,
+            fs_name: "fs_hz",
             ..Default::default()
         },
         welch,

@@ -29,10 +29,11 @@ pub fn run(
     let (mut before, mut after) = (None, None);
     for log in logs.iter().filter(|l| l.kind != LogKind::Frf) {
         let res = match log.kind {
-            LogKind::Random => random_log(log, limits, loc, &mut verdicts)?,
-            LogKind::Shock => shock_log(log, loc, &mut verdicts)?,
-            _ => frf_log(log)?,
-        };
+            LogKind::Random => random_log(log, limits, loc, &mut verdicts),
+            LogKind::Shock => shock_log(log, loc, &mut verdicts),
+            _ => frf_log(log),
+        }
+        .map_err(|e| locate_rate_error(e, log, loc))?;
         match log.kind {
             LogKind::SignatureBefore => before = Some(res.resonances.clone()),
             LogKind::SignatureAfter => after = Some(res.resonances.clone()),
@@ -228,6 +229,19 @@ fn shock_spec_curves(points: &[(f64, f64)], tol: SpecTolerance) -> Vec<(String, 
         (format!("+{} dB", tol.upper_db), band(tol.upper_db)),
         (format!("−{} dB", tol.lower_db), band(-tol.lower_db)),
     ]
+}
+
+/// A rate the scene gave (`fs_hz`) that the file contradicts, or that is implausible, is the
+/// scene's error: located at that key.
+fn locate_rate_error(e: Error, log: &TestLogPlan, loc: &Locator) -> Error {
+    match e {
+        Error::Signal(crate::error::SignalError::BadParameter {
+            name: "fs", reason, ..
+        }) if log.ingest.fs.is_some() => loc
+            .err(&format!("test_log[{}].fs_hz", log.index), reason)
+            .into(),
+        other => other,
+    }
 }
 
 /// A sweep or signature log: the FRF control → first response, its resonances and curves.

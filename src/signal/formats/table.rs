@@ -84,7 +84,7 @@ fn sampling_rate(path: &Path, rate: &Rate, opts: &IngestOptions) -> Result<f64, 
         && fs.is_finite()
         && fs > 0.0
     {
-        return crate::signal::ingest::plausible_rate(path, fs, "--fs");
+        return crate::signal::ingest::plausible_rate(path, fs, opts.fs_name);
     }
     let stated = match rate {
         Rate::Stated(fs, _) => Some(*fs),
@@ -93,16 +93,16 @@ fn sampling_rate(path: &Path, rate: &Rate, opts: &IngestOptions) -> Result<f64, 
     };
     let fs = match (stated, opts.fs) {
         (Some(s), Some(f)) if !opts.fs_override && (s - f).abs() > FS_AGREEMENT * f => {
-            return Err(SignalError::BadParameter {
-                name: "fs",
-                value: f.to_string(),
-                reason: format!(
-                    "--fs {f} Hz disagrees with {} of {}, which gives {s:.6} Hz (more than {}%); drop --fs, or pass --fs-override to use --fs",
-                    rate_source(rate),
-                    path.display(),
-                    FS_AGREEMENT * 100.0
-                ),
-            });
+            let stated = format!(
+                "{} of {}, which gives {s:.6} Hz",
+                rate_source(rate),
+                path.display()
+            );
+            return Err(crate::signal::ingest::fs_disagrees(
+                opts.fs_name,
+                f,
+                &stated,
+            ));
         }
         (_, Some(f)) => f,
         (Some(s), None) => s,
@@ -114,7 +114,7 @@ fn sampling_rate(path: &Path, rate: &Rate, opts: &IngestOptions) -> Result<f64, 
     };
     if fs.is_finite() && fs > 0.0 {
         let source = if opts.fs == Some(fs) {
-            "--fs".to_string()
+            opts.fs_name.to_string()
         } else {
             rate_source(rate)
         };

@@ -71,9 +71,32 @@ pub struct IngestOptions {
     pub time_unit: Option<TimeUnit>,
     /// `fs` wins over a time column that disagrees with it (the time column is then ignored).
     pub fs_override: bool,
+    /// Where `fs` came from, as messages name it: `--fs` on the command line, `fs_hz` in a
+    /// scene's `[[test_log]]` (which has no override).
+    pub fs_name: &'static str,
     /// Most spectral lines, counted from 0 Hz, a PSD record read from a file may span
     /// (`--max-psd-lines`; default [`crate::signal::logpsd::MAX_PSD_LINES`]).
     pub max_psd_lines: usize,
+}
+
+/// The given rate `fs` disagrees with what the file states (`stated`: "the time column of F,
+/// which gives X Hz"): an error naming where `fs` came from (`fs_name`, see
+/// [`IngestOptions::fs_name`]) and the cure there (the command line can override the file; a
+/// scene's `fs_hz` cannot).
+pub fn fs_disagrees(name: &str, fs: f64, stated: &str) -> SignalError {
+    let cure = if name == "--fs" {
+        "drop --fs, or pass --fs-override to use --fs".to_string()
+    } else {
+        format!("remove {name}: the file states its own rate")
+    };
+    SignalError::BadParameter {
+        name: "fs",
+        value: fs.to_string(),
+        reason: format!(
+            "{name} {fs} Hz disagrees with {stated} (more than {}%); {cure}",
+            FS_AGREEMENT * 100.0
+        ),
+    }
 }
 
 impl Default for IngestOptions {
@@ -89,6 +112,7 @@ impl Default for IngestOptions {
             columns: None,
             time_unit: None,
             fs_override: false,
+            fs_name: "--fs",
             max_psd_lines: crate::signal::logpsd::MAX_PSD_LINES,
         }
     }
@@ -724,15 +748,8 @@ fn plan_columns(file: &Path, d: &Dialect, opts: &IngestOptions) -> Result<Column
                 notes.push(format!("sampling rate {hz} Hz read from line {line}"));
             }
             Some(fs) if !opts.fs_override && (fs - hz).abs() > FS_AGREEMENT * fs => {
-                return Err(SignalError::BadParameter {
-                    name: "fs",
-                    value: fs.to_string(),
-                    reason: format!(
-                        "--fs {fs} Hz disagrees with the {hz} Hz that line {line} of {} states (more than {}%); drop --fs, or pass --fs-override to use --fs",
-                        file.display(),
-                        FS_AGREEMENT * 100.0
-                    ),
-                });
+                let stated = format!("the {hz} Hz that line {line} of {} states", file.display());
+                return Err(fs_disagrees(opts.fs_name, fs, &stated));
             }
             Some(_) => {}
         }
@@ -894,7 +911,7 @@ fn select_columns(
                 reason: "must be positive".into(),
             });
         }
-        plausible_rate(file, fs, "--fs")?;
+        plausible_rate(file, fs, opts.fs_name)?;
     }
     for (name, _) in &opts.channel_units {
         if !header.contains(name) {

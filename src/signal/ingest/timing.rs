@@ -92,6 +92,8 @@ pub struct Timing {
     resample: bool,
     tol: f64,
     fs_option: Option<f64>,
+    /// Where `fs_option` came from, as errors name it ([`IngestOptions::fs_name`]).
+    fs_name: &'static str,
     target_fs: Option<f64>,
     band: Option<BandLimited>,
     primed: Vec<(f64, u64, Vec<f64>)>,
@@ -116,6 +118,7 @@ impl Timing {
             resample: opts.resample || opts.resample_fs.is_some(),
             tol: opts.jitter_tolerance,
             fs_option: opts.fs,
+            fs_name: opts.fs_name,
             target_fs: opts.resample_fs,
             band: None,
             primed: Vec::new(),
@@ -334,15 +337,11 @@ impl Timing {
             return Ok(from_time);
         };
         if self.rows > 1 && (from_time - fs).abs() > FS_AGREEMENT * fs {
-            return Err(SignalError::BadParameter {
-                name: "fs",
-                value: fs.to_string(),
-                reason: format!(
-                    "--fs {fs} Hz disagrees with the time column of {}, which gives {from_time:.6} Hz (more than {}%); drop --fs, or pass --fs-override to use --fs and ignore the time column",
-                    self.file.display(),
-                    FS_AGREEMENT * 100.0
-                ),
-            });
+            let stated = format!(
+                "the time column of {}, which gives {from_time:.6} Hz",
+                self.file.display()
+            );
+            return Err(super::fs_disagrees(self.fs_name, fs, &stated));
         }
         Ok(fs)
     }
