@@ -64,7 +64,7 @@ pub(super) fn uff_frfs(
 ) -> Result<Option<MeasuredFrfs>, SignalError> {
     let (found, others) = frf_records(paths)?;
     if found.is_empty() {
-        return without_frfs(paths, &others);
+        return without_frfs(&others);
     }
     if let Some(p) = paths.iter().find(|p| !uff::looks_like_uff(p)) {
         return Err(SignalError::Unsupported {
@@ -101,18 +101,36 @@ pub(super) fn uff_frfs(
     }))
 }
 
-/// No FRF: time histories to estimate FRFs from (`None`), or nothing `ema` can use.
-fn without_frfs(paths: &[PathBuf], others: &[i64]) -> Result<Option<MeasuredFrfs>, SignalError> {
-    match paths.iter().find(|p| uff::looks_like_uff(p)) {
-        Some(p) if !others.contains(&FUNCTION_TIME) => Err(SignalError::Unsupported {
-            file: p.clone(),
+/// No FRF: time histories to estimate FRFs from (`None`), or nothing `ema` can use, named
+/// by the first record's file, line and function type.
+fn without_frfs(others: &[Other]) -> Result<Option<MeasuredFrfs>, SignalError> {
+    if others.iter().any(|o| o.function_type == FUNCTION_TIME) {
+        return Ok(None);
+    }
+    match others.first() {
+        Some(o) => Err(SignalError::Unsupported {
+            file: o.file.clone(),
             message: format!(
-                "no FRF (UFF58 function type 4) and no time history (type 1) to estimate one \
-                 from: its records are of function types {others:?}"
+                "line {}: record `{}` is {}, and no record is an FRF (UFF58 function type 4) \
+                 or a time history (type 1) to estimate one from ({} record(s) read)",
+                o.line,
+                o.name,
+                o.kind,
+                others.len()
             ),
         }),
-        _ => Ok(None),
+        None => Ok(None),
     }
+}
+
+/// A UFF58 record that is not an FRF: where it is and what it holds.
+struct Other {
+    file: PathBuf,
+    line: u64,
+    name: String,
+    function_type: i64,
+    /// `function type 2 (auto spectrum)`.
+    kind: String,
 }
 
 /// The FRFs on `freqs`, each scaled to the common unit, and where each was read.
@@ -139,8 +157,8 @@ fn scaled_set(
     (set, records)
 }
 
-/// Every FRF record of the UFF files among `paths`, and the function types of the others.
-fn frf_records(paths: &[PathBuf]) -> Result<(Vec<Found>, Vec<i64>), SignalError> {
+/// Every FRF record of the UFF files among `paths`, and the others.
+fn frf_records(paths: &[PathBuf]) -> Result<(Vec<Found>, Vec<Other>), SignalError> {
     let mut found = Vec::new();
     let mut others = Vec::new();
     for p in paths.iter().filter(|p| uff::looks_like_uff(p)) {
@@ -151,7 +169,13 @@ fn frf_records(paths: &[PathBuf]) -> Result<(Vec<Found>, Vec<i64>), SignalError>
                     record,
                 });
             } else {
-                others.push(record.function.function_type);
+                others.push(Other {
+                    file: p.clone(),
+                    line: record.line,
+                    name: record.id4.clone(),
+                    function_type: record.function.function_type,
+                    kind: record.function_kind(),
+                });
             }
         }
     }
