@@ -1235,6 +1235,18 @@ fn uff58_volts_are_not_taken_as_g() {
     assert_eq!(log.info.channels[0].unit_label, "V");
     let (v, _) = psd_with(&p, &["--units", "Acc 1=g"]);
     assert_eq!(v["channels"][0]["unit"], "g");
+    // `srs` keeps the volts too and says so on stderr, as `psd` does.
+    let (code, out, err) = crate::common::run_text(
+        &["srs", p.to_str().unwrap(), "--units", "g", "--json"],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["channels"][0]["unit"], "V", "{err}");
+    assert!(
+        err.contains("channel `Acc 1` is in V as the file states"),
+        "{err}"
+    );
 }
 
 /// Siglent oscilloscope CSV: `Second` names the time column (bin2csv writes `Second,Volt`

@@ -72,6 +72,7 @@ pub fn run(args: Args) -> Result<Outcome, Error> {
         super::log_args::print_notes(&record.notes);
         super::log_args::print_warnings(&record.warnings);
     }
+    super::log_args::print_notes(&res.notes);
     if args.fmax.is_none() {
         super::log_args::print_notes(&[format!(
             "srs: natural frequencies up to {} Hz (default fs/10, at most 10 kHz; --fmax to change)",

@@ -38,6 +38,10 @@ pub struct LogSrs {
     /// The reader's decisions about a text, LabVIEW or MATLAB log (none for a UFF file,
     /// whose records state everything).
     pub ingest: Option<IngestRecord>,
+    /// What a UFF file's records were read as where that departs from the options (a record
+    /// in volts kept in volts under `--units g`), for stderr.
+    #[serde(skip)]
+    pub notes: Vec<String>,
 }
 
 /// Reads `path` and computes the spectrum of every selected channel.
@@ -46,7 +50,7 @@ pub fn srs_of_file(
     ingest: &IngestOptions,
     opts: &SrsOptions,
 ) -> Result<LogSrs, SignalError> {
-    let (fs_hz, records, record) = read_records(path, ingest)?;
+    let (fs_hz, records, record, notes) = read_records(path, ingest)?;
     let opts = &opts.resolved_for(fs_hz);
     opts.validate()?;
     let freqs = natural_frequencies(opts.fmin_hz, opts.fmax_hz, opts.per_octave);
@@ -61,6 +65,7 @@ pub fn srs_of_file(
         residual_samples: super::residual_samples(opts.fmin_hz, opts.q, 1.0 / fs_hz),
         channels,
         ingest: record,
+        notes,
     })
 }
 
@@ -108,14 +113,15 @@ fn channel_srs(
 /// Name, the unit the values are in as results state it, values.
 type Records = Vec<(String, String, Vec<f64>)>;
 
-/// The selected channels of a CSV log or a UFF58 file, in the reported unit, and the rate.
+/// The selected channels of a CSV log or a UFF58 file, in the reported unit, the rate, the
+/// reader's record (text logs) and notes (UFF).
 fn read_records(
     path: &Path,
     ingest: &IngestOptions,
-) -> Result<(f64, Records, Option<IngestRecord>), SignalError> {
+) -> Result<(f64, Records, Option<IngestRecord>, Vec<String>), SignalError> {
     if looks_like_uff(path) {
-        let (fs, records) = read_uff_records(path, ingest)?;
-        return Ok((fs, records, None));
+        let (fs, records, notes) = read_uff_records(path, ingest)?;
+        return Ok((fs, records, None, notes));
     }
     let log = read_log(path, ingest)?;
     let records = log
@@ -125,12 +131,16 @@ fn read_records(
         .zip(log.data)
         .map(|(c, x)| (c.name.clone(), c.reported_unit(), x))
         .collect();
-    Ok((log.info.fs_hz, records, Some(log.info.ingest)))
+    Ok((log.info.fs_hz, records, Some(log.info.ingest), Vec::new()))
 }
 
-fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records), SignalError> {
+fn read_uff_records(
+    path: &Path,
+    ingest: &IngestOptions,
+) -> Result<(f64, Records, Vec<String>), SignalError> {
     let records = read_uff58(path)?;
     let mut out = Vec::new();
+    let mut kept = Vec::new();
     let mut fs: Option<(f64, String)> = None;
     let names = crate::signal::uff::channel_names(&records);
     for (r, name) in records.iter().zip(names.iter().cloned()) {
@@ -164,13 +174,17 @@ fn read_uff_records(path: &Path, ingest: &IngestOptions) -> Result<(f64, Records
         let unit = crate::signal::uff::ordinate_unit(&r.ordinate_label, ingest, &name);
         let k = unit.to_report_factor();
         let unit_text = unit.reported_with(&r.ordinate_label);
+        kept.push((name.clone(), r));
         out.push((name, unit_text, r.re.iter().map(|v| v * k).collect()));
     }
     check_uff_selection(path, ingest, &out, &names)?;
     let (fs, _) = fs.ok_or_else(|| SignalError::HeaderOnly {
         file: path.to_path_buf(),
     })?;
-    Ok((fs, out))
+    let named: Vec<(&String, &crate::signal::uff::UffRecord)> =
+        kept.iter().map(|(n, r)| (n, *r)).collect();
+    let notes = crate::signal::uff::electrical_notes(&named, ingest);
+    Ok((fs, out, notes))
 }
 
 /// Every channel asked for must have been found.
