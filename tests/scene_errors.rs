@@ -97,6 +97,15 @@ refused_input_cases! {
     extra_coordinate_is_refused: "position_m = [1.0, 0.0, 0.0]" => "position_m = [1.0, 0.0, 0.0, 5.0]",
         contains ["node[1].position_m", "has 4 entries, but takes 3"],
         at line_of(BASE, "position_m = [1.0");
+    // A 20 × 20 mm bar as a general section (A = 4e-4 m², I = 1.333e-8 m⁴, J = 2.25e-8 m⁴)
+    // with its second moments a million times too small: below A²/(2π) = 2.5465e-8 m⁴.
+    general_section_below_the_least_polar_moment: "shape = \"rectangle\"\nwidth_m = 0.02\nheight_m = 0.02" =>
+        "shape = \"general\"\narea_m2 = 4e-4\niy_m4 = 1.33e-14\niz_m4 = 1.33e-14\nj_m4 = 2.25e-14",
+        contains ["section[0].iy_m4", "below A²/(2π) = 2.5465e-8 m⁴"];
+    // The same bar with J a hundred times too large: above Iy + Iz, which bounds it.
+    general_section_torsion_above_polar: "shape = \"rectangle\"\nwidth_m = 0.02\nheight_m = 0.02" =>
+        "shape = \"general\"\narea_m2 = 4e-4\niy_m4 = 1.3333e-8\niz_m4 = 1.3333e-8\nj_m4 = 2.25e-6",
+        contains ["section[0].j_m4", "exceeds the polar moment"];
     third_beam_node_is_refused: "nodes = [1, 2]" => "nodes = [1, 2, 99]",
         contains ["beam[0].nodes", "has 3 entries, but takes 2"], at line_of(BASE, "nodes = [1, 2]");
 }

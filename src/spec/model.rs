@@ -507,6 +507,40 @@ fn validate_section(s: &Section, i: usize, loc: &Locator) -> Result<(), SpecErro
             format!("the inner diameter {inner} m must be smaller than the outer diameter {o} m"),
         ));
     }
+    if let (Some(a), Some(iy), Some(iz), Some(j)) = (s.area_m2, s.iy_m4, s.iz_m4, s.j_m4) {
+        check_general_section(a, iy + iz, j, &k, loc)?;
+    }
+    Ok(())
+}
+
+/// What no cross-section can have, whatever its shape: a polar moment Iy + Iz below the
+/// solid disc's A²/(2π), the least any area A can have about its centroid; a torsion
+/// constant J above the polar moment (Saint-Venant: J = Ip − ∫|∇ψ|² dA for the warping ψ,
+/// equal for circles and tubes only). Either is a unit slip (mm⁴ or cm⁴ as m⁴, mm² as m²).
+fn check_general_section(
+    a: f64,
+    polar: f64,
+    j: f64,
+    k: &dyn Fn(&str) -> String,
+    loc: &Locator,
+) -> Result<(), SpecError> {
+    let least = a * a / (2.0 * std::f64::consts::PI);
+    if polar < least * (1.0 - 1e-9) {
+        return Err(loc.err(
+            &k("iy_m4"),
+            format!(
+                "iy_m4 + iz_m4 = {polar:.4e} m⁴ is below A²/(2π) = {least:.4e} m⁴, the least polar moment any section of area {a:e} m² has (a solid circle): check the units of area_m2, iy_m4 and iz_m4"
+            ),
+        ));
+    }
+    if j > polar * (1.0 + 1e-9) {
+        return Err(loc.err(
+            &k("j_m4"),
+            format!(
+                "the torsion constant {j:.4e} m⁴ exceeds the polar moment iy_m4 + iz_m4 = {polar:.4e} m⁴, which bounds it for every section (equal for circles and tubes): check its units"
+            ),
+        ));
+    }
     Ok(())
 }
 
