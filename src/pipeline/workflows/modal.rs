@@ -127,14 +127,7 @@ fn locate_modal_error(scene: &Scene, e: Error) -> Error {
             scene.locator().err("static_load[0].node", msg).into()
         }
         // A solver failure is the model's: named with its scene (the message names the DOF).
-        (Error::Modal(m @ ModalError::NoConvergence(_)), _) => SpecError {
-            file: scene.path.clone(),
-            line: 0,
-            column: 0,
-            key: String::new(),
-            message: m.to_string(),
-        }
-        .into(),
+        (Error::Modal(m @ ModalError::NoConvergence(_)), _) => in_file(scene, m.to_string()),
         (other, _) => other,
     }
 }
@@ -152,45 +145,44 @@ pub fn locate(scene: &Scene, e: FemError) -> Error {
         }
         _ => return e.into(),
     };
-    let id = node
-        .strip_prefix("node ")
-        .and_then(|s| s.parse::<i64>().ok());
-    match id.and_then(|id| scene.file.node.iter().position(|n| n.id == id)) {
+    match scene_node_id(&node).and_then(|id| scene.file.node.iter().position(|n| n.id == id)) {
         Some(i) => {
             let key = format!("node[{i}]");
             let mut se: SpecError = scene.locator().err(&format!("{key}.id"), e.to_string());
             se.key = key;
             se.into()
         }
-        None => SpecError {
-            file: scene.path.clone(),
-            line: 0,
-            column: 0,
-            key: String::new(),
-            message: e.to_string(),
-        }
-        .into(),
+        None => in_file(scene, e.to_string()),
     }
 }
 
 /// The `[[support]]` entry of the scene node named `node` ("node 7"), else the file alone.
 fn locate_support(scene: &Scene, node: &str, message: String) -> Error {
-    let id = node
-        .strip_prefix("node ")
-        .and_then(|s| s.parse::<i64>().ok());
-    let support = id.and_then(|id| scene.file.support.iter().position(|s| s.node == id));
+    let support =
+        scene_node_id(node).and_then(|id| scene.file.support.iter().position(|s| s.node == id));
     match support {
         Some(i) => scene
             .locator()
             .err(&format!("support[{i}].node"), message)
             .into(),
-        None => SpecError {
-            file: scene.path.clone(),
-            line: 0,
-            column: 0,
-            key: String::new(),
-            message,
-        }
-        .into(),
+        None => in_file(scene, message),
     }
+}
+
+/// The scene id of an FE node label ("node 7"); `None` for a generated node
+/// ("beam[0] interior node 3").
+fn scene_node_id(label: &str) -> Option<i64> {
+    label.strip_prefix("node ")?.parse().ok()
+}
+
+/// An error of the scene's model that no single key holds: named with the file alone.
+fn in_file(scene: &Scene, message: String) -> Error {
+    SpecError {
+        file: scene.path.clone(),
+        line: 0,
+        column: 0,
+        key: String::new(),
+        message,
+    }
+    .into()
 }

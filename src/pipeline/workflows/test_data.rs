@@ -231,8 +231,8 @@ fn shock_spec_curves(points: &[(f64, f64)], tol: SpecTolerance) -> Vec<(String, 
     ]
 }
 
-/// A rate the scene gave (`fs_hz`) that the file contradicts, or that is implausible, is the
-/// scene's error: located at that key.
+/// A rate the scene gave (`fs_hz`) that the file's own rate contradicts (or that is not
+/// positive) is the scene's error: located at that key.
 fn locate_rate_error(e: Error, log: &TestLogPlan, loc: &Locator) -> Error {
     match e {
         Error::Signal(crate::error::SignalError::BadParameter {

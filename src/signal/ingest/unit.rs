@@ -107,13 +107,11 @@ pub fn is_electrical(label: &str) -> bool {
 /// The note for a channel kept in the electrical unit its file states while `--units` gives
 /// one unit for every channel.
 pub fn electrical_note(channel: &str, label: &str, default: Unit) -> String {
+    let unit = default.label();
     format!(
         "channel `{channel}` is in {label} as the file states, an electrical unit: kept in \
-         {label}, not taken as {} by --units {}; pass --units \"{channel}={}\" if its values \
-         are accelerations",
-        default.label(),
-        default.label(),
-        default.label()
+         {label}, not taken as {unit} by --units {unit}; pass --units \"{channel}={unit}\" if \
+         its values are accelerations"
     )
 }
 

@@ -74,13 +74,17 @@ pub(super) struct BadField {
     pub text: String,
 }
 
-/// The number tokens of one data line: split at blanks, or, when a token is not a number
-/// (fields that touch), cut at the fixed `widths` (repeated along the line). A blank field
-/// ends the line's values; text after it, or a field that is not a number, is a [`BadField`].
-pub(super) fn tokens<'a>(line: &'a str, widths: &[usize]) -> Result<Vec<&'a str>, BadField> {
-    let split: Vec<&str> = line.split_whitespace().collect();
-    if split.iter().all(|t| number(t).is_some()) {
-        return Ok(split);
+/// The numbers of one data line, each with its token: split at blanks, or, when a token is
+/// not a number (fields that touch), cut at the fixed `widths` (repeated along the line). A
+/// blank field ends the line's values; text after it, or a field that is not a number, is a
+/// [`BadField`].
+pub(super) fn tokens<'a>(line: &'a str, widths: &[usize]) -> Result<Vec<(&'a str, f64)>, BadField> {
+    let split: Option<Vec<(&str, f64)>> = line
+        .split_whitespace()
+        .map(|t| number(t).map(|v| (t, v)))
+        .collect();
+    if let Some(values) = split {
+        return Ok(values);
     }
     let mut out = Vec::new();
     let mut start = 0;
@@ -101,10 +105,11 @@ pub(super) fn tokens<'a>(line: &'a str, widths: &[usize]) -> Result<Vec<&'a str>
             .trim();
         if text.is_empty() {
             blank_seen = true;
-        } else if blank_seen || number(text).is_none() {
-            return Err(bad(text));
         } else {
-            out.push(text);
+            match number(text).filter(|_| !blank_seen) {
+                Some(v) => out.push((text, v)),
+                None => return Err(bad(text)),
+            }
         }
         start = end;
     }
@@ -154,21 +159,24 @@ mod tests {
     /// field; a field that is no number is named with its columns.
     #[test]
     fn touching_fields_are_cut_at_the_declared_widths() {
+        let texts = |r: Result<Vec<(&'static str, f64)>, BadField>| {
+            r.map(|t| t.into_iter().map(|(s, _)| s).collect::<Vec<_>>())
+        };
         let w = [13; 6];
         let line = "-1.23456e-100-2.00000e-100 3.00000e+00";
         assert_eq!(
-            tokens(line, &w),
+            texts(tokens(line, &w)),
             Ok(vec!["-1.23456e-100", "-2.00000e-100", "3.00000e+00"])
         );
         let mixed = [13, 20];
         let line = " 1.00000e-100-2.000000000000e-100";
         assert_eq!(
-            tokens(line, &mixed),
+            texts(tokens(line, &mixed)),
             Ok(vec!["1.00000e-100", "-2.000000000000e-100"])
         );
         let line = "-1.23456e-100 2.0000x+00";
         assert_eq!(
-            tokens(line, &w),
+            texts(tokens(line, &w)),
             Err(BadField {
                 field: 2,
                 columns: (14, 24),

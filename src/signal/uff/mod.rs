@@ -461,8 +461,7 @@ fn ascii_values(
                 ),
             )
         })?;
-        for tok in tokens {
-            let v = fortran::number(tok).unwrap_or(f64::NAN);
+        for (tok, v) in tokens {
             if !v.is_finite() {
                 return Err(err(file, line_no, format!("non-finite value `{tok}`")));
             }

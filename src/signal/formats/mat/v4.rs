@@ -225,14 +225,16 @@ mod tests {
         out
     }
 
+    /// Doubles as a little-endian file holds them.
+    fn le_doubles(values: &[f64]) -> Vec<u8> {
+        values.iter().flat_map(|v| v.to_le_bytes()).collect()
+    }
+
     /// MOPT 0 (IEEE little-endian, double, numeric) and 1010 (big-endian, single): the same
     /// values come back in either order; text, sparse and complex are named, not read.
     #[test]
     fn both_byte_orders_and_precisions_read() {
-        let le: Vec<u8> = [1.5f64, -2.25]
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+        let le = le_doubles(&[1.5, -2.25]);
         let be: Vec<u8> = [1.5f32, -2.25]
             .iter()
             .flat_map(|v| v.to_be_bytes())
@@ -250,10 +252,7 @@ mod tests {
             assert_eq!(vars, [(name.to_string(), want)]);
         }
         // Text 'ab' as MATLAB writes it (MOPT 1: doubles of the character codes), complex.
-        let codes: Vec<u8> = [97.0f64, 98.0]
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+        let codes = le_doubles(&[97.0, 98.0]);
         let mut file = matrix(false, 1, (1, 2), 0, "s", &codes);
         file.extend(matrix(false, 0, (1, 1), 1, "z", &le));
         let vars = read_mat4(&file).unwrap();
@@ -264,10 +263,7 @@ mod tests {
     /// A file cut inside its values, and a VAX number format, are errors naming the matrix.
     #[test]
     fn a_cut_file_and_a_vax_format_are_refused() {
-        let le: Vec<u8> = [1.5f64, -2.25]
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+        let le = le_doubles(&[1.5, -2.25]);
         let cut = matrix(false, 0, (3, 1), 0, "acc", &le);
         let e = read_mat4(&cut).unwrap_err();
         assert!(
