@@ -6,9 +6,11 @@
 //! sparse ones (`sparse`: LDLᵀ, shift-invert block Lanczos with a Sturm-count proof); see
 //! [`auto_prefers_sparse`] for how `SolverChoice::Auto` chooses.
 
+mod by_class;
 pub mod checks;
 pub mod correlation;
 pub mod dense;
+mod mirrors;
 pub mod sparse;
 pub mod updating;
 
@@ -536,29 +538,27 @@ fn sparse_modes(
     let kc = sparse::SymCsc::from_triplets(n, k);
     let mc = sparse::SymCsc::from_triplets(n, m);
     let basis = ModeBasis::new(model, red, m_full, m);
-    // Each band's modes are checked, polished and measured on the band's thread as soon as
-    // it is solved: repeated modes never straddle a band cut (cuts sit in gaps of the
-    // spectrum), and no more than the bands in flight hold their eigenvectors when the
-    // shapes are dropped.
-    let finish = |band: sparse::FinishedBand, st: &mut sparse::SparseStats| {
-        let sparse::FinishedBand { offset, mut pairs } = band;
-        // The sparse eigenvalues are Rayleigh quotients: no shift enters their rounding.
-        let mut checked = pair_checks(n, (k, m), &pairs, 0.0);
-        polish_unconverged(n, (k, m), (&kc, &mc), &mut pairs, &mut checked, st)?;
-        set_zero_modes(&checked, &mut pairs);
-        Ok((checked, basis.modes(pairs, offset, opts.shapes)))
+    // A band of modes (not the lowest N, which could all lie in one class) of a model with
+    // mirror planes is solved class by class.
+    let mirrors = (opts.modes.is_none() && opts.fmax_hz.is_some())
+        .then(|| mirrors::find_mirrors(model, red, &kc, &mc))
+        .flatten();
+    let solved = match &mirrors {
+        Some(mr) => by_class::solve_by_class(mr, (k, m), (&kc, &mc), &basis, opts),
+        None => solve_whole(n, (k, m), (&kc, &mc), &basis, opts),
     };
-    let (bands, mut stats) = sparse::eigen_by_band(&kc, &mc, opts.fmax_hz, opts.modes, &finish)
-        .map_err(|e| sparse_err(model, red, e, true))?;
+    let (checked, modes, mut stats) = solved.map_err(|e| sparse_err(model, red, e, true))?;
     let two_pi = 2.0 * std::f64::consts::PI;
     let label = format!(
-        "sparse (shift-invert block Lanczos on faer LDLᵀ; Sturm count {} below {:.6} Hz)",
+        "sparse (shift-invert block Lanczos on faer LDLᵀ{}; Sturm count {} below {:.6} Hz)",
+        if mirrors.is_some() {
+            ", by mirror-symmetry class"
+        } else {
+            ""
+        },
         stats.sturm_count,
         stats.sturm_sigma.max(0.0).sqrt() / two_pi
     );
-    let (checked, modes): (Vec<_>, Vec<_>) = bands.into_iter().unzip();
-    let checked: Vec<checks::PairCheck> = checked.into_iter().flatten().collect();
-    let modes: Vec<Mode> = modes.into_iter().flatten().collect();
     let lambdas = modes.iter().map(|md| md.eigenvalue);
     let (rigid, worst) = check_pairs(model, &checked, lambdas, past_buckling(&prestress))?;
     let mut result = basis.result(red, modes, &label, prestress);
@@ -567,6 +567,34 @@ fn sparse_modes(
     stats.max_ratio_at = checks::dof_name(model, red, at);
     result.sparse = Some(stats);
     Ok(result)
+}
+
+/// The sparse eigen-solve of the whole model. Each band's modes are checked, polished and
+/// measured on the band's thread as soon as it is solved: repeated modes never straddle a
+/// band cut (cuts sit in gaps of the spectrum), and no more than the bands in flight hold
+/// their eigenvectors when the shapes are dropped.
+fn solve_whole(
+    n: usize,
+    (k, m): (&Triplets, &Triplets),
+    (kc, mc): (&sparse::SymCsc, &sparse::SymCsc),
+    basis: &ModeBasis,
+    opts: &ModalOptions,
+) -> Result<(Vec<checks::PairCheck>, Vec<Mode>, sparse::SparseStats), sparse::SparseError> {
+    let finish = |band: sparse::FinishedBand, st: &mut sparse::SparseStats| {
+        let sparse::FinishedBand { offset, mut pairs } = band;
+        // The sparse eigenvalues are Rayleigh quotients: no shift enters their rounding.
+        let mut checked = pair_checks(n, (k, m), &pairs, 0.0);
+        polish_unconverged(n, (k, m), (kc, mc), &mut pairs, &mut checked, st)?;
+        set_zero_modes(&checked, &mut pairs);
+        Ok((checked, basis.modes(pairs, offset, opts.shapes)))
+    };
+    let (bands, stats) = sparse::eigen_by_band(kc, mc, opts.fmax_hz, opts.modes, &finish)?;
+    let (checked, modes): (Vec<_>, Vec<_>) = bands.into_iter().unzip();
+    Ok((
+        checked.into_iter().flatten().collect(),
+        modes.into_iter().flatten().collect(),
+        stats,
+    ))
 }
 
 /// A round-off zero becomes exactly 0, before the modes are aligned: the rigid-body modes

@@ -67,6 +67,15 @@ impl SymCsc {
         y
     }
 
+    /// a_ij (0 when not stored); rows are sorted within each column.
+    pub fn entry(&self, i: usize, j: usize) -> f64 {
+        let (lo, hi) = (self.col_ptr[j], self.col_ptr[j + 1]);
+        match self.row_idx[lo..hi].binary_search(&i) {
+            Ok(q) => self.val[lo + q],
+            Err(_) => 0.0,
+        }
+    }
+
     /// c·A.
     pub fn scaled(&self, c: f64) -> SymCsc {
         SymCsc {

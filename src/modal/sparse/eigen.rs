@@ -36,6 +36,9 @@ pub struct SparseStats {
     /// dense path's `max_ratio`, one pivot per rigid-body mode discounted) and where it is.
     pub max_ratio: f64,
     pub max_ratio_at: String,
+    /// The mirror planes and symmetry classes the solve was split into, when the model has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symmetry: Option<String>,
     /// A_ii / d_i of the factor below the spectrum, per reduced DOF (input order).
     #[serde(skip)]
     pub pivot_ratio: Vec<f64>,

@@ -63,6 +63,7 @@ pub mod orthonormal;
 pub mod polish;
 pub mod slice;
 pub mod static_solve;
+pub mod symmetry;
 
 use crate::error::ModalError;
 
