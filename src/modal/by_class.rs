@@ -6,9 +6,7 @@
 use super::mirrors::Mirrors;
 use super::sparse::symmetry::SymmetryClass;
 use super::sparse::{self, FinishedBand, SparseError, SparseStats, SymCsc};
-use super::{
-    ModalOptions, Mode, ModeBasis, checks, pair_checks, polish_unconverged, set_zero_modes,
-};
+use super::{ModalOptions, Mode, ModeBasis, checks, polish_unconverged, set_zero_modes};
 use crate::fem::model::Triplets;
 use rayon::prelude::*;
 
@@ -25,10 +23,11 @@ pub(super) fn solve_by_class(
     basis: &ModeBasis,
     opts: &ModalOptions,
 ) -> Result<(Vec<checks::PairCheck>, Vec<Mode>, SparseStats), SparseError> {
+    let checker = checks::PairChecker::new(kc.n, (k, m));
     let solved: Vec<Result<ClassModes, SparseError>> = mirrors
         .classes
         .par_iter()
-        .map(|class| solve_class(class, (k, m), (kc, mc), basis, opts))
+        .map(|class| solve_class(class, &checker, (kc, mc), basis, opts))
         .collect();
     let mut all: Vec<(checks::PairCheck, Mode)> = Vec::new();
     let mut stats: Vec<SparseStats> = Vec::new();
@@ -52,12 +51,11 @@ pub(super) fn solve_by_class(
 /// checked, polished and measured there.
 fn solve_class(
     class: &SymmetryClass,
-    (k, m): (&Triplets, &Triplets),
+    checker: &checks::PairChecker,
     (kc, mc): (&SymCsc, &SymCsc),
     basis: &ModeBasis,
     opts: &ModalOptions,
 ) -> Result<ClassModes, SparseError> {
-    let n = kc.n;
     let (k_class, m_class) = (class.project(kc), class.project(mc));
     let finish = |band: FinishedBand, st: &mut SparseStats| {
         let mut pairs: Vec<(f64, Vec<f64>)> = band
@@ -65,8 +63,8 @@ fn solve_class(
             .into_iter()
             .map(|(lambda, x)| (lambda, class.expand(&x)))
             .collect();
-        let mut checked = pair_checks(n, (k, m), &pairs, 0.0);
-        polish_unconverged(n, (k, m), (kc, mc), &mut pairs, &mut checked, st)?;
+        let mut checked = checker.check(&pairs, 0.0);
+        polish_unconverged(checker, (kc, mc), &mut pairs, &mut checked, st)?;
         set_zero_modes(&checked, &mut pairs);
         let modes = basis.modes(pairs, band.offset, opts.shapes);
         Ok(checked.into_iter().zip(modes).collect::<Vec<_>>())

@@ -96,6 +96,30 @@ impl RowTriplets {
     }
 }
 
+/// The residual checks of a model's pairs, its K and M grouped by row once for all of them.
+pub struct PairChecker {
+    k: RowTriplets,
+    m: RowTriplets,
+}
+
+impl PairChecker {
+    pub fn new(n: usize, (k, m): (&Triplets, &Triplets)) -> PairChecker {
+        PairChecker {
+            k: RowTriplets::new(n, k),
+            m: RowTriplets::new(n, m),
+        }
+    }
+
+    /// Every pair's check, in parallel (each is independent of the others), in mode order.
+    pub fn check(&self, shapes: &[(f64, Vec<f64>)], shift_abs: f64) -> Vec<PairCheck> {
+        use rayon::prelude::*;
+        shapes
+            .par_chunks(CHECK_BLOCK)
+            .flat_map_iter(|block| check_pairs_block(&self.k, &self.m, block, shift_abs))
+            .collect()
+    }
+}
+
 /// Modes checked together by [`check_pairs_block`]: K and M are read once per block.
 pub const CHECK_BLOCK: usize = 8;
 
@@ -120,29 +144,42 @@ pub fn check_pairs_block(
     }
     let (kphi, kabs) = k.block_products(&phis, nb);
     let (mphi, mabs) = m.block_products(&phis, nb);
-    let mode =
-        |v: &[f64], b: usize| -> Vec<f64> { v.iter().skip(b).step_by(nb).copied().collect() };
     pairs
         .iter()
         .enumerate()
         .map(|(b, (lambda, phi))| {
-            let products = [&kphi, &kabs, &mphi, &mabs].map(|v| mode(v, b));
+            let products = [&kphi, &kabs, &mphi, &mabs].map(|v| Strided { v, b, nb });
             pair_check(*lambda, phi, &products, shift_abs)
         })
         .collect()
 }
 
+/// Mode b's entries of a block product interleaved over nb modes (entry i at i·nb + b), read
+/// in place rather than copied out.
+#[derive(Clone, Copy)]
+struct Strided<'a> {
+    v: &'a [f64],
+    b: usize,
+    nb: usize,
+}
+
+impl Strided<'_> {
+    fn at(&self, i: usize) -> f64 {
+        self.v[i * self.nb + self.b]
+    }
+}
+
 /// The check of (λ, φ) from its products [Kφ, |K||φ|, Mφ, |M||φ|].
-fn pair_check(lambda: f64, phi: &[f64], products: &[Vec<f64>; 4], shift_abs: f64) -> PairCheck {
+fn pair_check(lambda: f64, phi: &[f64], products: &[Strided<'_>; 4], shift_abs: f64) -> PairCheck {
     let n = phi.len();
     let [kphi, kabs, mphi, mabs] = products;
     let r: f64 = (0..n)
-        .map(|i| (kphi[i] - lambda * mphi[i]).powi(2))
+        .map(|i| (kphi.at(i) - lambda * mphi.at(i)).powi(2))
         .sum::<f64>()
         .sqrt();
-    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let norm = |v: &Strided<'_>| (0..n).map(|i| v.at(i) * v.at(i)).sum::<f64>().sqrt();
     let scale = norm(kabs) + lambda.abs() * norm(mabs);
-    let energy_floor: f64 = phi.iter().zip(kabs).map(|(p, a)| p.abs() * a).sum();
+    let energy_floor: f64 = (0..n).map(|i| phi[i].abs() * kabs.at(i)).sum();
     PairCheck {
         backward_error: if scale > 0.0 { r / scale } else { 0.0 },
         zero: lambda.abs() <= ZERO_EIGENVALUE_ULPS * f64::EPSILON * (energy_floor + shift_abs),

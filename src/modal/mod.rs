@@ -580,11 +580,12 @@ fn solve_whole(
     basis: &ModeBasis,
     opts: &ModalOptions,
 ) -> Result<(Vec<checks::PairCheck>, Vec<Mode>, sparse::SparseStats), sparse::SparseError> {
+    let checker = checks::PairChecker::new(n, (k, m));
     let finish = |band: sparse::FinishedBand, st: &mut sparse::SparseStats| {
         let sparse::FinishedBand { offset, mut pairs } = band;
         // The sparse eigenvalues are Rayleigh quotients: no shift enters their rounding.
-        let mut checked = pair_checks(n, (k, m), &pairs, 0.0);
-        polish_unconverged(n, (k, m), (kc, mc), &mut pairs, &mut checked, st)?;
+        let mut checked = checker.check(&pairs, 0.0);
+        polish_unconverged(&checker, (kc, mc), &mut pairs, &mut checked, st)?;
         set_zero_modes(&checked, &mut pairs);
         Ok((checked, basis.modes(pairs, offset, opts.shapes)))
     };
@@ -635,7 +636,7 @@ fn dense_modes(
         .map(|c| (g.lambda[c], (0..red.n_red).map(|r| g.phi[(r, c)]).collect()))
         .collect();
     m_orthonormalize(m, &mut shapes);
-    let checked = pair_checks(red.n_red, (k, m), &shapes, g.shift.abs());
+    let checked = checks::PairChecker::new(red.n_red, (k, m)).check(&shapes, g.shift.abs());
     set_zero_modes(&checked, &mut shapes);
     let lambdas = shapes.iter().map(|p| p.0);
     let (rigid, worst) = check_pairs(model, &checked, lambdas, past_buckling(&prestress))?;
@@ -712,24 +713,6 @@ fn dense_kept(lambda: &[f64], opts: &ModalOptions) -> usize {
     keep
 }
 
-/// Every pair's residual check, in parallel (each is independent of the others), in mode order.
-fn pair_checks(
-    n: usize,
-    (k, m): (&Triplets, &Triplets),
-    shapes: &[(f64, Vec<f64>)],
-    shift_abs: f64,
-) -> Vec<checks::PairCheck> {
-    use rayon::prelude::*;
-    let (kr, mr) = (
-        checks::RowTriplets::new(n, k),
-        checks::RowTriplets::new(n, m),
-    );
-    shapes
-        .par_chunks(checks::CHECK_BLOCK)
-        .flat_map_iter(|block| checks::check_pairs_block(&kr, &mr, block, shift_abs))
-        .collect()
-}
-
 /// Relative spread of the eigenvalues of one cluster of repeated modes.
 const CLUSTER_SPREAD: f64 = 1e-6;
 
@@ -741,8 +724,7 @@ const CLUSTER_SPREAD: f64 = 1e-6;
 /// [`POLISH_WINDOWS`] in turn, until a polished block is kept ([`Block::polish`]); `checked`
 /// follows the pairs.
 fn polish_unconverged(
-    n: usize,
-    (k, m): (&Triplets, &Triplets),
+    checker: &checks::PairChecker,
     (kc, mc): (&sparse::SymCsc, &sparse::SymCsc),
     pairs: &mut [(f64, Vec<f64>)],
     checked: &mut [checks::PairCheck],
@@ -758,8 +740,7 @@ fn polish_unconverged(
     let block = Block {
         pencil: &pencil,
         csc: (kc, mc),
-        triplets: (k, m),
-        n,
+        checker,
     };
     let mut i = 0;
     while i < pairs.len() {
@@ -795,8 +776,7 @@ const POLISH_WINDOWS: [f64; 3] = [CLUSTER_SPREAD, 1e-5, 1e-4];
 struct Block<'a> {
     pencil: &'a sparse::Pencil,
     csc: (&'a sparse::SymCsc, &'a sparse::SymCsc),
-    triplets: (&'a Triplets, &'a Triplets),
-    n: usize,
+    checker: &'a checks::PairChecker,
 }
 
 impl Block<'_> {
@@ -821,7 +801,7 @@ impl Block<'_> {
             pairs[range].clone_from_slice(&old);
             return false;
         }
-        let again = pair_checks(self.n, self.triplets, &pairs[range.clone()], 0.0);
+        let again = self.checker.check(&pairs[range.clone()], 0.0);
         let stayed = (old.iter().zip(&pairs[range.clone()]))
             .all(|(o, p)| (p.0 - o.0).abs() <= POLISH_MAX_SHIFT * o.0);
         let kept = worst(&again) < worst(&checked[range.clone()])
