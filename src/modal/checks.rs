@@ -45,29 +45,44 @@ pub struct PairCheck {
     pub zero: bool,
 }
 
-/// A triplet matrix grouped by row, each row's entries in their triplet order: a row's
-/// products then sum in the order the triplets give (the same rounding as a pass over the
-/// triplets), while one check reads each row once and checks of many modes share it.
+/// A triplet matrix grouped by row, the duplicates of each entry summed (the assembly writes
+/// one triplet per element and DOF pair, about ten per stored value on the stacks), each row's
+/// entries by column: one check reads each row once and checks of many modes share it.
 pub struct RowTriplets {
     start: Vec<usize>,
     entries: Vec<(usize, f64)>,
 }
 
 impl RowTriplets {
-    /// `a` (rows below `n`) grouped by row, stably.
+    /// `a` (rows below `n`) grouped by row, duplicates summed in their triplet order.
     pub fn new(n: usize, a: &Triplets) -> RowTriplets {
-        let mut start = vec![0usize; n + 1];
+        let mut count = vec![0usize; n + 1];
         for &(i, _, _) in a {
-            start[i + 1] += 1;
+            count[i + 1] += 1;
         }
         for i in 0..n {
-            start[i + 1] += start[i];
+            count[i + 1] += count[i];
         }
-        let mut next = start.clone();
-        let mut entries = vec![(0, 0.0); a.len()];
+        let mut next = count.clone();
+        let mut grouped = vec![(0, 0.0); a.len()];
         for &(i, j, v) in a {
-            entries[next[i]] = (j, v);
+            grouped[next[i]] = (j, v);
             next[i] += 1;
+        }
+        let mut start = vec![0usize; n + 1];
+        let mut entries: Vec<(usize, f64)> = Vec::with_capacity(a.len() / 4);
+        for i in 0..n {
+            let row = &mut grouped[count[i]..count[i + 1]];
+            // Stable: equal columns keep their triplet order, so the sums are reproducible.
+            row.sort_by_key(|e| e.0);
+            for &(j, v) in row.iter() {
+                let row_has = entries.len() > start[i];
+                match entries.last_mut() {
+                    Some(last) if row_has && last.0 == j => last.1 += v,
+                    _ => entries.push((j, v)),
+                }
+            }
+            start[i + 1] = entries.len();
         }
         RowTriplets { start, entries }
     }
@@ -144,46 +159,42 @@ pub fn check_pairs_block(
     }
     let (kphi, kabs) = k.block_products(&phis, nb);
     let (mphi, mabs) = m.block_products(&phis, nb);
-    pairs
-        .iter()
-        .enumerate()
-        .map(|(b, (lambda, phi))| {
-            let products = [&kphi, &kabs, &mphi, &mabs].map(|v| Strided { v, b, nb });
-            pair_check(*lambda, phi, &products, shift_abs)
+    let lambdas: Vec<f64> = pairs.iter().map(|p| p.0).collect();
+    let sums = block_sums(&lambdas, &phis, [&kphi, &kabs, &mphi, &mabs]);
+    (0..nb)
+        .map(|b| {
+            let [r2, kabs2, mabs2, energy_floor] = sums[b];
+            let lambda = lambdas[b];
+            let (r, scale) = (r2.sqrt(), kabs2.sqrt() + lambda.abs() * mabs2.sqrt());
+            PairCheck {
+                backward_error: if scale > 0.0 { r / scale } else { 0.0 },
+                zero: lambda.abs()
+                    <= ZERO_EIGENVALUE_ULPS * f64::EPSILON * (energy_floor + shift_abs),
+            }
         })
         .collect()
 }
 
-/// Mode b's entries of a block product interleaved over nb modes (entry i at i·nb + b), read
-/// in place rather than copied out.
-#[derive(Clone, Copy)]
-struct Strided<'a> {
-    v: &'a [f64],
-    b: usize,
-    nb: usize,
-}
-
-impl Strided<'_> {
-    fn at(&self, i: usize) -> f64 {
-        self.v[i * self.nb + self.b]
+/// For each mode b of the block (entries interleaved, i·nb + b): ‖Kφ − λMφ‖², ‖|K||φ|‖²,
+/// ‖|M||φ|‖² and Σ|φ|·|K||φ|, in one pass over the rows (each mode's sums in row order).
+fn block_sums(
+    lambdas: &[f64],
+    phis: &[f64],
+    [kphi, kabs, mphi, mabs]: [&[f64]; 4],
+) -> Vec<[f64; 4]> {
+    let nb = lambdas.len();
+    let mut sums = vec![[0.0f64; 4]; nb];
+    for i in 0..phis.len() / nb {
+        for (b, acc) in sums.iter_mut().enumerate() {
+            let at = i * nb + b;
+            let r = kphi[at] - lambdas[b] * mphi[at];
+            acc[0] += r * r;
+            acc[1] += kabs[at] * kabs[at];
+            acc[2] += mabs[at] * mabs[at];
+            acc[3] += phis[at].abs() * kabs[at];
+        }
     }
-}
-
-/// The check of (λ, φ) from its products [Kφ, |K||φ|, Mφ, |M||φ|].
-fn pair_check(lambda: f64, phi: &[f64], products: &[Strided<'_>; 4], shift_abs: f64) -> PairCheck {
-    let n = phi.len();
-    let [kphi, kabs, mphi, mabs] = products;
-    let r: f64 = (0..n)
-        .map(|i| (kphi.at(i) - lambda * mphi.at(i)).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    let norm = |v: &Strided<'_>| (0..n).map(|i| v.at(i) * v.at(i)).sum::<f64>().sqrt();
-    let scale = norm(kabs) + lambda.abs() * norm(mabs);
-    let energy_floor: f64 = (0..n).map(|i| phi[i].abs() * kabs.at(i)).sum();
-    PairCheck {
-        backward_error: if scale > 0.0 { r / scale } else { 0.0 },
-        zero: lambda.abs() <= ZERO_EIGENVALUE_ULPS * f64::EPSILON * (energy_floor + shift_abs),
-    }
+    sums
 }
 
 /// The largest pivot ratio after discounting the `rigid` largest (one tiny pivot per
