@@ -91,27 +91,14 @@ fn mirror_sign(axis: usize, c: usize) -> f64 {
 /// bounding box, and the plane's coordinate.
 fn node_mirror(model: &FeModel, axis: usize) -> Option<(Vec<usize>, f64)> {
     let nodes = &model.nodes;
-    let (lo, hi) = nodes
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), n| {
-            (l.min(n.x[axis]), h.max(n.x[axis]))
-        });
-    let extent = (0..3)
-        .map(|a| {
-            let (l, h) = nodes
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), n| {
-                    (l.min(n.x[a]), h.max(n.x[a]))
-                });
-            h - l
-        })
-        .fold(0.0, f64::max);
+    let (lo, hi) = bounding_box(model);
+    let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
     if extent.is_nan() || extent <= 0.0 {
         return None;
     }
     let tol = POSITION_TOL * extent;
     // A plane at round-off from the origin is the origin: x ↦ −x is then exact.
-    let at = Some(0.5 * (lo + hi))
+    let at = Some(0.5 * (lo[axis] + hi[axis]))
         .filter(|a| a.abs() > tol)
         .unwrap_or(0.0);
     let cell = |x: [f64; 3]| x.map(|v| (v / tol).round() as i64);
@@ -132,4 +119,17 @@ fn node_mirror(model: &FeModel, axis: usize) -> Option<(Vec<usize>, f64)> {
         }
     }
     Some((image, at))
+}
+
+/// The lowest and highest node coordinate along each axis.
+fn bounding_box(model: &FeModel) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for n in &model.nodes {
+        for a in 0..3 {
+            lo[a] = lo[a].min(n.x[a]);
+            hi[a] = hi[a].max(n.x[a]);
+        }
+    }
+    (lo, hi)
 }
