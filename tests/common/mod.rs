@@ -36,10 +36,32 @@ pub fn run_text(args: &[&str], threads: Option<&str>) -> (i32, String, String) {
 /// An empty folder of its own for the test called `name`. All tests share one process, so the
 /// name, not the process id, keeps two tests apart.
 pub fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("satqual-{name}-{}", std::process::id()));
+    let d = run_root().join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
+}
+
+/// This run's folder, `satqual-tests/<pid>` in the system's temporary folder. The test harness
+/// has no teardown, so the folders of earlier runs whose process has ended are removed here,
+/// on first use (only where /proc tells which processes are alive).
+fn run_root() -> &'static Path {
+    static ROOT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    ROOT.get_or_init(|| {
+        let base = std::env::temp_dir().join("satqual-tests");
+        let alive = |pid: &str| Path::new("/proc").join(pid).exists();
+        if Path::new("/proc/self").exists()
+            && let Ok(entries) = std::fs::read_dir(&base)
+        {
+            for e in entries.flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                if name.parse::<u32>().is_ok() && !alive(&name) {
+                    let _ = std::fs::remove_dir_all(e.path());
+                }
+            }
+        }
+        base.join(std::process::id().to_string())
+    })
 }
 
 /// A copy of the repository file `from`, edited, in a fresh temporary folder as `NAME.EXT`
