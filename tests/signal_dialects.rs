@@ -236,12 +236,7 @@ fn psd_json_carries_the_ingest_record_and_stderr_the_decisions() {
         "semi-cli.csv",
         &format!("time;acc_g\n{}", rows(";", 1.0, 0.0, true)),
     );
-    let (code, out, err) = crate::common::run_text(
-        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
-        None,
-    );
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (v, err) = psd_with(&p, &[]);
     assert_eq!(v["ingest"]["delimiter"], "semicolon");
     assert_eq!(v["ingest"]["decimal"], ",");
     assert_eq!(err.matches("decimal comma").count(), 1, "{err}");
@@ -278,12 +273,7 @@ fn uff58_unit_comes_from_the_units_field_not_the_axis_label() {
     // 2 g amplitude written in m/s2 (9.80665 m/s2 per g, ISO 80000-3): reported RMS 2/√2 g to
     // the 6 significant digits of the E13.5 values (1e-5 relative).
     let p = write("acc.uff", &uff58("Acceleration", "m/s2", 9.80665));
-    let (code, out, err) = crate::common::run_text(
-        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
-        None,
-    );
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let v = psd_json(&p);
     let ch = &v["channels"][0];
     assert_eq!(ch["unit"], "g");
     let want = 2.0 / 2f64.sqrt();
@@ -299,23 +289,13 @@ fn uff58_unit_comes_from_the_units_field_not_the_axis_label() {
         .collect();
     let p = write("acc-cp1252.uff", "");
     std::fs::write(&p, bytes).unwrap();
-    let (code, out, err) = crate::common::run_text(
-        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
-        None,
-    );
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["channels"][0]["unit"], "g", "{out}");
+    let v = psd_json(&p);
+    assert_eq!(v["channels"][0]["unit"], "g", "{v}");
     let rms = v["channels"][0]["rms"].as_f64().unwrap();
     assert!((rms - want).abs() < want * 1e-5, "{rms}");
     // A pressure channel labelled `General` is not in g.
     let p = write("pa.uff", &uff58("General", "Pa", 1.0));
-    let (code, out, err) = crate::common::run_text(
-        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
-        None,
-    );
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let v = psd_json(&p);
     // Kept as it is, and said to be in the file's unit.
     assert_eq!(v["channels"][0]["unit"], "Pa");
 }
@@ -324,12 +304,7 @@ fn uff58_unit_comes_from_the_units_field_not_the_axis_label() {
 fn uff58_with_id_line_4_none_is_named_by_its_response_entity() {
     let text = uff58("Acceleration", "g", 1.0).replace("\nAcc 1\n", "\nNONE\n");
     let p = write("none.uff", &text);
-    let (code, out, err) = crate::common::run_text(
-        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
-        None,
-    );
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let v = psd_json(&p);
     assert_eq!(v["channels"][0]["name"], "sine");
 }
 
@@ -942,12 +917,7 @@ fn a_channel_kept_as_it_is_is_reported_in_the_files_unit() {
         .map(|c| c.reported_unit())
         .collect();
     assert_eq!(labels, ["N", "kPa", "as-is"]);
-    let (code, out, err) = crate::common::run_text(
-        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
-        None,
-    );
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (v, err) = psd_with(&p, &[]);
     let want = 2.0 / 2f64.sqrt();
     for (ch, unit) in v["channels"]
         .as_array()
@@ -975,8 +945,7 @@ fn a_uff58_file_cut_inside_its_data_says_how_much_it_holds() {
         .map(|l| format!("{l}\n"))
         .collect();
     let p = write("cut.uff", &cut);
-    let (code, _, e) = crate::common::run_text(&["psd", p.to_str().unwrap()], None);
-    assert_eq!(code, 2, "{e}");
+    let e = crate::common::psd_error(&p);
     assert!(
         e.contains("line 21: dataset 58 is not closed by `-1`")
             && e.contains(&format!(
@@ -988,19 +957,7 @@ fn a_uff58_file_cut_inside_its_data_says_how_much_it_holds() {
 
 /// Runs `psd --json` on `p` and returns the JSON; panics with stderr on failure.
 fn psd_json(p: &std::path::Path) -> serde_json::Value {
-    let (code, out, err) = crate::common::run_text(
-        &["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"],
-        None,
-    );
-    assert_eq!(code, 0, "{err}");
-    serde_json::from_str(&out).unwrap()
-}
-
-/// Runs `psd` on `p`, which must fail, and returns stderr.
-fn psd_fails(p: &std::path::Path) -> String {
-    let (code, _, err) = crate::common::run_text(&["psd", p.to_str().unwrap()], None);
-    assert_eq!(code, 2, "{err}");
-    err
+    psd_with(p, &[]).0
 }
 
 /// The abscissa's units label (record 8) gives its unit: the same 1000 Hz time history with
@@ -1024,7 +981,7 @@ fn uff58_abscissa_in_ms_is_converted_and_an_unknown_unit_refused() {
     let want = 2.0 / 2f64.sqrt();
     assert!((rms - want).abs() < want * 1e-5, "{rms}");
     let odd = in_ms.replace(" ms                  \n", " furlong             \n");
-    let e = psd_fails(&write("x-furlong.uff", &odd));
+    let e = crate::common::psd_error(&write("x-furlong.uff", &odd));
     assert!(
         e.contains(
             "x-furlong.uff: line 2: record 8 (the abscissa, line 10) gives the units label `furlong`"
@@ -1041,7 +998,7 @@ fn uff58_complex_time_history_is_refused() {
         &format!("         2{N:10}         1 "),
         &format!("         5{N:10}         1 "),
     );
-    let e = psd_fails(&write("complex-time.uff", &text));
+    let e = crate::common::psd_error(&write("complex-time.uff", &text));
     assert!(
         e.contains("complex-time.uff: line 9: the record at line 2 is a time history (record 6 function type 1) with complex values (record 7 ordinate data type 5)"),
         "{e}"
@@ -1075,14 +1032,14 @@ fn uff58_auto_spectrum_is_refused_at_its_line() {
         ),
         "{e}"
     );
-    let e = psd_fails(&alone);
+    let e = crate::common::psd_error(&alone);
     assert!(
         e.contains("auto-spectrum.uff: line 2: record `Acc 1` is function type 2 (auto spectrum)"),
         "{e}"
     );
     // Beside a time history, the spectrum named by ID line 4 `Acc 2` is the error, at line 183.
     let both = format!("{time}{}", spectrum.replace("Acc 1", "Acc 2"));
-    let e = psd_fails(&write("time-and-auto.uff", &both));
+    let e = crate::common::psd_error(&write("time-and-auto.uff", &both));
     assert!(
         e.contains(
             "time-and-auto.uff: line 183: record `Acc 2` is function type 2 (auto spectrum)"
@@ -1133,7 +1090,7 @@ fn uff58_uneven_abscissa_rounded_to_six_digits_is_uniform() {
     let want = 2.0 / 2f64.sqrt();
     assert!((rms - want).abs() < want * 1e-9, "{rms}");
     // Point 1001 (index 1000) moved 0.1 ms late: a fifth of a step, not rounding.
-    let e = psd_fails(&write("uneven-gap.uff", &record(Some(1000))));
+    let e = crate::common::psd_error(&write("uneven-gap.uff", &record(Some(1000))));
     assert!(
         e.contains("uneven-gap.uff: line 2: the abscissa is not evenly spaced: the step from point 1000 (x = "),
         "{e}"
@@ -1145,7 +1102,12 @@ fn uff58_uneven_abscissa_rounded_to_six_digits_is_uniform() {
 fn psd_with(p: &std::path::Path, args: &[&str]) -> (serde_json::Value, String) {
     let mut all = vec!["psd", p.to_str().unwrap(), "--nperseg", "500", "--json"];
     all.extend(args);
-    let (code, out, err) = crate::common::run_text(&all, None);
+    json_run(&all)
+}
+
+/// Runs satqual with `args`, which must succeed, and returns its JSON and its stderr.
+fn json_run(args: &[&str]) -> (serde_json::Value, String) {
+    let (code, out, err) = crate::common::run_text(args, None);
     assert_eq!(code, 0, "{err}");
     (serde_json::from_str(&out).unwrap(), err)
 }
@@ -1236,12 +1198,7 @@ fn uff58_volts_are_not_taken_as_g() {
     let (v, _) = psd_with(&p, &["--units", "Acc 1=g"]);
     assert_eq!(v["channels"][0]["unit"], "g");
     // `srs` keeps the volts too and says so on stderr, as `psd` does.
-    let (code, out, err) = crate::common::run_text(
-        &["srs", p.to_str().unwrap(), "--units", "g", "--json"],
-        None,
-    );
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (v, err) = json_run(&["srs", p.to_str().unwrap(), "--units", "g", "--json"]);
     assert_eq!(v["channels"][0]["unit"], "V", "{err}");
     assert!(
         err.contains("channel `Acc 1` is in V as the file states"),
