@@ -85,30 +85,21 @@ fn add_up(stats: &[SparseStats], mirrors: &Mirrors) -> SparseStats {
         t.sturm_sigma = t.sturm_sigma.min(s.sturm_sigma);
         t.sturm_count += s.sturm_count;
         t.fmax_count = Some(t.fmax_count.unwrap_or(0) + s.fmax_count.unwrap_or(0));
-        t.factorizations += s.factorizations;
+        t.add_work(s);
         t.bands += s.bands;
-        t.clusters += s.clusters;
-        t.slices += s.slices;
-        t.lanczos_vectors += s.lanczos_vectors;
-        t.restarts += s.restarts;
         t.max_backward_error = t.max_backward_error.max(s.max_backward_error);
         t.factor_nnz += s.factor_nnz;
     }
-    let dofs: Vec<String> = mirrors
-        .classes
-        .iter()
-        .map(|c| c.columns.len().to_string())
-        .collect();
+    let sum = |terms: Vec<usize>| {
+        let terms: Vec<String> = terms.iter().map(usize::to_string).collect();
+        terms.join(" + ")
+    };
     t.symmetry = Some(format!(
         "mirror planes {}: {} classes of {} DOFs, {} modes",
         mirrors.planes.join(", "),
         mirrors.classes.len(),
-        dofs.join(" + "),
-        stats
-            .iter()
-            .map(|s| s.sturm_count.to_string())
-            .collect::<Vec<_>>()
-            .join(" + ")
+        sum(mirrors.classes.iter().map(|c| c.columns.len()).collect()),
+        sum(stats.iter().map(|s| s.sturm_count).collect()),
     ));
     t
 }

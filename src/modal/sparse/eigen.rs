@@ -209,14 +209,19 @@ fn check_band_order<T>(outs: &[BandOut<T>]) -> Result<(), SparseError> {
 }
 
 impl SparseStats {
-    /// Adds the work of one band; the Sturm check reported is the highest band's.
-    fn add_band(&mut self, st: &SparseStats) {
+    /// Adds another solve's work: factorizations, clusters, slices, Lanczos vectors, restarts.
+    pub fn add_work(&mut self, st: &SparseStats) {
         self.factorizations += st.factorizations;
-        self.bands += 1;
         self.clusters += st.clusters;
         self.slices += st.slices;
         self.lanczos_vectors += st.lanczos_vectors;
         self.restarts += st.restarts;
+    }
+
+    /// Adds the work of one band; the Sturm check reported is the highest band's.
+    fn add_band(&mut self, st: &SparseStats) {
+        self.add_work(st);
+        self.bands += 1;
         if st.sturm_count >= self.sturm_count {
             self.sturm_sigma = st.sturm_sigma;
             self.sturm_count = st.sturm_count;
