@@ -3,7 +3,7 @@
 
 use super::csc::SymCsc;
 use super::eigen::SparseStats;
-use super::factor::{Pencil, factor_away_from_eigenvalue};
+use super::factor::{Pencil, accurate_factor, factor_away_from_eigenvalue};
 use super::lanczos::BLOCK;
 use super::orthonormal::m_orthonormalize;
 use super::{Pair, RESIDUAL_TOL, SparseError, VECTOR_TOL};
@@ -63,6 +63,7 @@ pub(super) fn cluster_pairs(
         return Ok(Vec::new());
     }
     let fac = factor_away_from_eigenvalue(pencil, l - SHIFT_BELOW * l.abs(), stats)?;
+    let fac = accurate_factor(pencil, fac, stats)?;
     // Twice before a Rayleigh–Ritz, once between applications: a locked component left at
     // round-off there is removed by the next deflation anyway.
     let deflate_n = |x: &mut Mat<f64>, passes: usize| {

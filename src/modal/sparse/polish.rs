@@ -6,7 +6,7 @@
 
 use super::csc::SymCsc;
 use super::eigen::SparseStats;
-use super::factor::{Pencil, factor_away_from_eigenvalue};
+use super::factor::{Pencil, accurate_factor, factor_away_from_eigenvalue};
 use super::{Pair, SparseError};
 use crate::error::ModalError;
 use faer::Mat;
@@ -27,6 +27,7 @@ pub fn polish_cluster(
     let block = &pairs[range.clone()];
     let sigma = block[0].0 * (1.0 - SHIFT_BELOW);
     let fac = factor_away_from_eigenvalue(pencil, sigma, stats)?;
+    let fac = accurate_factor(pencil, fac, stats)?;
     let mut y = Mat::<f64>::from_fn(n, block.len(), |i, j| block[j].1[i]);
     for _ in 0..2 {
         let mut my = m.mul(y.as_ref());

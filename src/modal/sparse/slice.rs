@@ -28,7 +28,9 @@
 use super::cluster::cluster_pairs;
 use super::csc::SymCsc;
 use super::eigen::SparseStats;
-use super::factor::{Factor, Pencil, factor_away_from_eigenvalue, factor_in_gap, point_in_gap};
+use super::factor::{
+    Factor, Pencil, accurate_factor, factor_away_from_eigenvalue, factor_in_gap, point_in_gap,
+};
 use super::lanczos::{BLOCK, Lanczos, MAX_BASIS};
 use super::{Pair, RESIDUAL_TOL, SparseError};
 use crate::error::ModalError;
@@ -75,6 +77,9 @@ pub(super) fn run_slice(
     if c_s < c_a {
         return Err(mismatch(c_a, c_s, s));
     }
+    // The Lanczos operator's factor: the partition point's own unless its solves are
+    // inaccurate (then a shift next to it; s stays the counted point).
+    let fac_op = accurate_factor(pencil, fac_s, stats)?;
     // Locked vectors: the previous slice's (the nearest below a) plus those converged here
     // before a restart.
     let mut locked = prev.clone();
@@ -90,7 +95,7 @@ pub(super) fn run_slice(
     // cluster of repeated local modes far from s); s stays the counted partition point.
     let mut restart_fac: Option<Factor<'_>> = None;
     for restart in 0..MAX_RESTARTS {
-        let cur = restart_fac.as_ref().unwrap_or(&fac_s);
+        let cur = restart_fac.as_ref().unwrap_or(&fac_op);
         let sh = cur.sigma;
         let op = |_v: MatRef<'_, f64>, bv: MatRef<'_, f64>| {
             let mut w = bv.to_owned();
@@ -104,7 +109,14 @@ pub(super) fn run_slice(
         if room == 0 {
             break;
         }
-        let p = block.min(room);
+        // A space no larger than a basis is taken whole, in one block: its Rayleigh–Ritz
+        // pairs are exact, where blocks of 8 would stop short of it (a 12-unknown model
+        // got one block of 8 per restart, and nothing converged).
+        let p = if room <= MAX_BASIS {
+            room
+        } else {
+            block.min(room)
+        };
         let max_basis = (MAX_BASIS.min(room) / p).max(1) * p;
         *seed += 1;
         let mut lz = Lanczos::new(n, p, max_basis, locked.as_ref(), *seed, bufs);
@@ -244,11 +256,11 @@ pub(super) fn run_slice(
             // At most a fifth of the basis, so that a run still takes five block steps.
             block = (missing + 2).clamp(BLOCK, (MAX_BASIS / 5).max(BLOCK));
             let next = match target {
-                Some(l) => Some(factor_away_from_eigenvalue(
-                    pencil,
-                    l - 1e-4 * l.abs().max(f64::MIN_POSITIVE),
-                    stats,
-                )?),
+                Some(l) => {
+                    let below = l - 1e-4 * l.abs().max(f64::MIN_POSITIVE);
+                    let fac = factor_away_from_eigenvalue(pencil, below, stats)?;
+                    Some(accurate_factor(pencil, fac, stats)?)
+                }
                 None => None,
             };
             restart_fac = next;
