@@ -34,6 +34,27 @@ fn field<T: std::str::FromStr>(
     })
 }
 
+/// A real field as Fortran writes it (a `D` exponent, or an exponent of three digits whose
+/// `E` was dropped: see [`super::fortran`]).
+fn real_field(
+    file: &Path,
+    line: u64,
+    tokens: &[&str],
+    k: usize,
+    what: &str,
+) -> Result<f64, SignalError> {
+    let t = tokens
+        .get(k)
+        .ok_or_else(|| err(file, line, format!("missing field {} ({what})", k + 1)))?;
+    super::fortran::number(t).ok_or_else(|| {
+        err(
+            file,
+            line,
+            format!("field {} ({what}): cannot parse `{t}`", k + 1),
+        )
+    })
+}
+
 /// The `58b` marker line: `58b  byte-order  fp-format  ascii-lines  bytes  0 0 0 0`.
 pub(super) fn binary_layout(
     file: &Path,
@@ -198,8 +219,8 @@ pub(super) fn record7(file: &Path, line: u64, text: &str) -> Result<Record7, Sig
     let ordinate_type: i64 = field(file, line, &t, 0, "ordinate data type")?;
     let points: usize = field(file, line, &t, 1, "number of data values")?;
     let spacing: i64 = field(file, line, &t, 2, "abscissa spacing")?;
-    let x0: f64 = field(file, line, &t, 3, "abscissa minimum")?;
-    let dx: f64 = field(file, line, &t, 4, "abscissa increment")?;
+    let x0 = real_field(file, line, &t, 3, "abscissa minimum")?;
+    let dx = real_field(file, line, &t, 4, "abscissa increment")?;
     if !matches!(ordinate_type, 2 | 4 | 5 | 6) {
         return Err(err(
             file,
@@ -232,4 +253,46 @@ pub(super) fn record7(file: &Path, line: u64, text: &str) -> Result<Record7, Sig
         x0,
         dx,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::record7;
+    use std::path::Path;
+
+    /// Record 7 as Fortran writers put it down (3I10,3E13.5): the E form, the D form, and an
+    /// exponent of three digits with its E dropped, each read to the value written.
+    #[test]
+    fn record_7_reads_every_fortran_real_form() {
+        let file = Path::new("r.uff");
+        let cases = [
+            (
+                "         4     16384         1  0.00000E+00  9.76563E-05",
+                0.0,
+                9.76563e-5,
+            ),
+            (
+                "         2      1024         1  1.00000D-01  5.00000D-04",
+                0.1,
+                5e-4,
+            ),
+            (
+                "         2      1024         1  0.00000E+00  0.10000-100",
+                0.0,
+                0.1e-100,
+            ),
+        ];
+        for (text, x0, dx) in cases {
+            let r7 = record7(file, 7, text).unwrap();
+            assert_eq!((r7.x0, r7.dx), (x0, dx), "{text}");
+        }
+        let bad = record7(file, 7, "         2      1024         1  0.0  fast")
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            bad.contains("r.uff") && bad.contains("abscissa increment"),
+            "{bad}"
+        );
+    }
 }
