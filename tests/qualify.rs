@@ -633,7 +633,7 @@ fn qualify_test_data(name: &str, from: &str, to: &str) -> (Option<i32>, String) 
 #[test]
 fn test_log_control_and_reference_profile_are_checked_not_guessed() {
     // (case, text replaced, replacement, every part the error must hold)
-    let cases: [(&str, &str, &str, &[&str]); 4] = [
+    let cases: [(&str, &str, &str, &[&str]); 5] = [
         (
             "control-name",
             "control = \"Channel 1\"",
@@ -662,6 +662,18 @@ fn test_log_control_and_reference_profile_are_checked_not_guessed() {
                 "fs_hz 20000 Hz disagrees with the time column",
                 "which gives 25599.99",
                 "remove fs_hz: the file states its own rate",
+            ],
+        ),
+        (
+            // A rate past any recorder's (the plausible range of docs/robustness.md) is a
+            // unit slip of the scene, refused at its line before any log is read.
+            "fs-implausible",
+            "kind = \"signature-before\"",
+            "kind = \"signature-before\"\nfs_hz = 1e15",
+            &[
+                "key `test_log[1].fs_hz`",
+                "scene.toml:",
+                "outside the plausible range [1e-6, 1e9] Hz",
             ],
         ),
         (

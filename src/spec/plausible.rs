@@ -76,6 +76,9 @@ pub const FRICTION: Range = range(1e-3, 2.0, "", false);
 /// A friction coefficient of the release's contacts, where 0 (frictionless) is a model
 /// choice; 1e5 made a release take 50 s of stick-slip steps.
 pub const CONTACT_FRICTION: Range = range(1e-3, 2.0, "", true);
+/// A sampling rate: one sample in 11.6 days up to 1 GHz (far beyond any accelerometer or
+/// shock recorder). The signal readers hold every rate to it, whatever stated it.
+pub const SAMPLING_RATE_HZ: Range = range(1e-6, 1e9, "Hz", false);
 /// A length of the `[stack]`: a kilometre-high stack is beyond any launcher (a 200-satellite
 /// stack's bars are 110 m); a 100 km bar made a release take 46 s to simulate nothing.
 pub const STACK_LENGTH_M: Range = range(1e-9, 1e3, "m", false);
@@ -105,10 +108,21 @@ pub fn check(loc: &Locator, key: &str, v: f64, r: Range) -> Result<(), SpecError
         Err(loc.err(
             key,
             format!(
-                "{v} is outside the plausible range {} (see docs/robustness.md)",
+                "{} is outside the plausible range {} (see docs/robustness.md)",
+                readable(v),
                 r.describe()
             ),
         ))
+    }
+}
+
+/// A value as typed: decimal between 1e-3 and 1e6, else with an exponent (a slipped unit
+/// reads `1e-12`, not `0.000000000001`).
+fn readable(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
     }
 }
 

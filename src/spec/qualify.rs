@@ -144,13 +144,12 @@ pub fn validate(gates: &GatesSpec, logs: &[TestLogSpec], loc: &Locator) -> Resul
             }
             super::analysis::validate_psd_points(tab, &key, loc)?;
         }
-        if let Some(fs) = l.fs_hz
-            && fs <= 0.0
-        {
-            return Err(loc.err(
-                &format!("test_log[{i}].fs_hz"),
-                format!("must be positive, got {fs}"),
-            ));
+        if let Some(fs) = l.fs_hz {
+            let key = format!("test_log[{i}].fs_hz");
+            if fs <= 0.0 {
+                return Err(loc.err(&key, format!("must be positive, got {fs}")));
+            }
+            super::plausible::check(loc, &key, fs, super::plausible::SAMPLING_RATE_HZ)?;
         }
     }
     Ok(())

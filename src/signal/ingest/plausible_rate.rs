@@ -5,8 +5,11 @@
 use crate::error::SignalError;
 use std::path::Path;
 
-/// Hz: one sample in 11.6 days up to 1 GHz (far beyond any accelerometer or shock recorder).
-pub const PLAUSIBLE_FS_HZ: (f64, f64) = (1e-6, 1e9);
+/// Hz: the scenes' range ([`crate::spec::plausible::SAMPLING_RATE_HZ`]).
+pub const PLAUSIBLE_FS_HZ: (f64, f64) = (
+    crate::spec::plausible::SAMPLING_RATE_HZ.lo,
+    crate::spec::plausible::SAMPLING_RATE_HZ.hi,
+);
 
 /// `fs` when it is a plausible sampling rate, else an error naming the file and what gave it.
 pub fn plausible_rate(file: &Path, fs: f64, source: &str) -> Result<f64, SignalError> {
