@@ -1115,9 +1115,10 @@ fn json_run(args: &[&str]) -> (serde_json::Value, String) {
 /// An oscilloscope's vertical unit is the channel's: an MSO export's preamble `Vertical
 /// Units,V` (above `TIME,CH1`, read as delimited text) labels the channel V, a Tektronix
 /// spreadsheet's `Vertical Units,mV` and a Rigol's `Volt` keep theirs, and `--units g` for all
-/// channels does not turn volts into g (a note says so); `--units CH1=g` does, as asked. The
-/// values are this file's sine, 2 V amplitude: RMS 2/√2 V, or 1000 times that in mV written
-/// to 6 decimals (both to 1e-6 relative).
+/// channels does not turn volts into g (a note says so); `--units CH1=g` does, as asked, with
+/// a note on the sensitivity that means (1 V/g). The values are this file's sine, 2 V
+/// amplitude: RMS 2/√2 V, or 1000 times that in mV written to 6 decimals (both to 1e-6
+/// relative).
 #[test]
 fn a_scopes_vertical_unit_is_kept_and_volts_are_not_taken_as_g() {
     let mv_rows = |sep: &str| -> String {
@@ -1168,14 +1169,19 @@ fn a_scopes_vertical_unit_is_kept_and_volts_are_not_taken_as_g() {
                 assert!(err.contains(&note), "{name}: {err}");
             }
         }
-        let (v, _) = psd_with(&p, &["--units", "CH1=g"]);
+        // Named as g, the volts are read unchanged, and the note says at what sensitivity.
+        let (v, err) = psd_with(&p, &["--units", "CH1=g"]);
         assert_eq!(v["channels"][0]["unit"], "g", "{name}");
+        let note = format!(
+            "channel `CH1` is in {unit} as the file states; --units \"CH1=g\" reads its values as g unchanged, i.e. at a sensitivity of 1 {unit}/g"
+        );
+        assert!(err.contains(&note), "{name}: {err}");
     }
 }
 
 /// A UFF58 time history whose units field (record 9) is `V` keeps its volts under `--units g`
 /// as the scope readers do, in `psd` (with the note) and in the commands reading through
-/// `read_log`; `--units "Acc 1=g"` takes it as g. RMS 2/√2 V to the 6 digits of E13.5 (1e-5).
+/// `read_log`; `--units "Acc 1=g"` takes it as g, with a note on the sensitivity that means. RMS 2/√2 V to the 6 digits of E13.5 (1e-5).
 #[test]
 fn uff58_volts_are_not_taken_as_g() {
     let p = write("volts.uff", &uff58("Voltage", "V", 1.0));
@@ -1195,8 +1201,12 @@ fn uff58_volts_are_not_taken_as_g() {
     let log = satqual::signal::formats::read_log(&p, &opts).unwrap();
     assert_eq!(log.info.channels[0].unit, Unit::AsIs);
     assert_eq!(log.info.channels[0].unit_label, "V");
-    let (v, _) = psd_with(&p, &["--units", "Acc 1=g"]);
+    let (v, err) = psd_with(&p, &["--units", "Acc 1=g"]);
     assert_eq!(v["channels"][0]["unit"], "g");
+    assert!(
+        err.contains("reads its values as g unchanged, i.e. at a sensitivity of 1 V/g"),
+        "{err}"
+    );
     // `srs` keeps the volts too and says so on stderr, as `psd` does.
     let (v, err) = json_run(&["srs", p.to_str().unwrap(), "--units", "g", "--json"]);
     assert_eq!(v["channels"][0]["unit"], "V", "{err}");

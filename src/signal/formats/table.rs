@@ -316,6 +316,7 @@ pub fn table_to_log(path: &Path, t: Table, opts: &IngestOptions) -> Result<Log, 
             unit_source,
             column: i,
             unit_label,
+            stated_label: s.unit_label.clone(),
         });
         data.push(s.values.iter().map(|v| v * k).collect());
     }

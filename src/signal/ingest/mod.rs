@@ -131,6 +131,10 @@ pub struct ChannelInfo {
     /// values are in that unit. Empty when converted or when the file states none.
     #[serde(skip_serializing_if = "String::is_empty")]
     pub unit_label: String,
+    /// The unit text the file states for the channel, whatever unit it is read in (for the
+    /// notes on volts read as an acceleration).
+    #[serde(skip)]
+    pub stated_label: String,
 }
 
 impl ChannelInfo {
@@ -929,16 +933,22 @@ fn is_rate_column_present(header: &[String], ignored: &[usize]) -> bool {
     ignored.iter().any(|&i| is_rate_name(&header[i]))
 }
 
-/// A note for each channel kept in the electrical unit its file states while `--units` gives
-/// one unit for all.
+/// A note for each channel the file states in volts: kept in them while `--units` gives one
+/// unit for all, or read unchanged as the acceleration `--units NAME=UNIT` names.
 pub(crate) fn electrical_notes(channels: &[ChannelInfo], opts: &IngestOptions) -> Vec<String> {
-    let Some(default) = opts.default_unit else {
-        return Vec::new();
-    };
+    let named = |c: &ChannelInfo| opts.channel_units.iter().any(|(n, _)| *n == c.name);
     channels
         .iter()
-        .filter(|c| c.unit == Unit::AsIs && unit::is_electrical(&c.unit_label))
-        .map(|c| unit::electrical_note(&c.name, &c.unit_label, default))
+        .filter(|c| unit::is_electrical(&c.stated_label))
+        .filter_map(|c| match (c.unit, opts.default_unit) {
+            (Unit::AsIs, Some(default)) if !named(c) => {
+                Some(unit::electrical_note(&c.name, &c.stated_label, default))
+            }
+            (u, _) if u != Unit::AsIs && named(c) => {
+                Some(unit::volts_read_as_note(&c.name, &c.stated_label, u))
+            }
+            _ => None,
+        })
         .collect()
 }
 
@@ -981,12 +991,14 @@ fn channel_infos(
                 Unit::AsIs => unit::kept_label(stated),
                 _ => String::new(),
             };
+            let stated_label = stated.to_string();
             ChannelInfo {
                 name,
                 unit,
                 unit_source,
                 column: i,
                 unit_label,
+                stated_label,
             }
         })
         .collect()

@@ -115,6 +115,18 @@ pub fn electrical_note(channel: &str, label: &str, default: Unit) -> String {
     )
 }
 
+/// The note for a channel the file states in volts that `--units NAME=UNIT` reads as an
+/// acceleration: its values are taken unchanged, i.e. at a sensitivity of one volt-unit per
+/// UNIT, which only the user can vouch for.
+pub fn volts_read_as_note(channel: &str, label: &str, unit: Unit) -> String {
+    let u = unit.label();
+    format!(
+        "channel `{channel}` is in {label} as the file states; --units \"{channel}={u}\" reads \
+         its values as {u} unchanged, i.e. at a sensitivity of 1 {label}/{u}: divide them by \
+         the sensor's sensitivity first if it is not"
+    )
+}
+
 impl Unit {
     pub fn parse(s: &str) -> Result<Unit, SignalError> {
         let n = normalise_unit(s);

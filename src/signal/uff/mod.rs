@@ -692,23 +692,26 @@ pub(crate) fn ordinate_unit(
     }
 }
 
-/// The notes for the records `psd` and `srs` keep in the volts their units field states while
-/// `--units` gives one unit for all (`named`: channel name and record).
+/// The notes for the records `psd` and `srs` read whose units field states volts: kept in
+/// them while `--units` gives one unit for all, or read unchanged as the acceleration
+/// `--units NAME=UNIT` names (`named`: channel name and record).
 pub(crate) fn electrical_notes(
     named: &[(&String, &UffRecord)],
     ingest: &crate::signal::ingest::IngestOptions,
 ) -> Vec<String> {
-    use crate::signal::ingest::unit::{electrical_note, is_electrical};
-    let Some(default) = ingest.default_unit else {
-        return Vec::new();
-    };
+    use crate::signal::ingest::Unit;
+    use crate::signal::ingest::unit::{electrical_note, is_electrical, volts_read_as_note};
     named
         .iter()
-        .filter(|(name, r)| {
-            is_electrical(&r.ordinate_label)
-                && !ingest.channel_units.iter().any(|(n, _)| n == *name)
+        .filter(|(_, r)| is_electrical(&r.ordinate_label))
+        .filter_map(|(name, r)| {
+            let label = &r.ordinate_label;
+            match ingest.channel_units.iter().find(|(n, _)| n == *name) {
+                Some((_, u)) if *u != Unit::AsIs => Some(volts_read_as_note(name, label, *u)),
+                Some(_) => None,
+                None => ingest.default_unit.map(|d| electrical_note(name, label, d)),
+            }
         })
-        .map(|(name, r)| electrical_note(name, &r.ordinate_label, default))
         .collect()
 }
 
