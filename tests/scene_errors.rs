@@ -102,6 +102,11 @@ refused_input_cases! {
     general_section_below_the_least_polar_moment: "shape = \"rectangle\"\nwidth_m = 0.02\nheight_m = 0.02" =>
         "shape = \"general\"\narea_m2 = 4e-4\niy_m4 = 1.33e-14\niz_m4 = 1.33e-14\nj_m4 = 2.25e-14",
         contains ["section[0].iy_m4", "below A²/(2π) = 2.5465e-8 m⁴"];
+    // The same bar with its second moments in mm⁴ (1.3333e4) beside an area in m²: Ip/A² =
+    // 1.67e11, a tube of radius 1e12 walls, far past the 1e4 of any structure.
+    general_section_moments_in_mm4: "shape = \"rectangle\"\nwidth_m = 0.02\nheight_m = 0.02" =>
+        "shape = \"general\"\narea_m2 = 4e-4\niy_m4 = 1.3333e4\niz_m4 = 1.3333e4\nj_m4 = 2.25e4",
+        contains ["section[0].iy_m4", "1.667e11 times A²", "mm⁴ as m⁴"];
     // The same bar with J a hundred times too large: above Iy + Iz, which bounds it.
     general_section_torsion_above_polar: "shape = \"rectangle\"\nwidth_m = 0.02\nheight_m = 0.02" =>
         "shape = \"general\"\narea_m2 = 4e-4\niy_m4 = 1.3333e-8\niz_m4 = 1.3333e-8\nj_m4 = 2.25e-6",

@@ -517,6 +517,9 @@ fn validate_section(s: &Section, i: usize, loc: &Locator) -> Result<(), SpecErro
 /// solid disc's A²/(2π), the least any area A can have about its centroid; a torsion
 /// constant J above the polar moment (Saint-Venant: J = Ip − ∫|∇ψ|² dA for the warping ψ,
 /// equal for circles and tubes only). Either is a unit slip (mm⁴ or cm⁴ as m⁴, mm² as m²).
+/// The other way, a polar moment above [`MOST_POLAR_PER_AREA_SQUARED`]·A² would take a tube
+/// whose radius is 63 000 times its wall (Ip/A² = R/(2πt)): no structure, but mm⁴ typed as m⁴
+/// beside an area in m² (1e12 times too large).
 fn check_general_section(
     a: f64,
     polar: f64,
@@ -533,6 +536,16 @@ fn check_general_section(
             ),
         ));
     }
+    if polar > MOST_POLAR_PER_AREA_SQUARED * a * a {
+        return Err(loc.err(
+            &k("iy_m4"),
+            format!(
+                "iy_m4 + iz_m4 = {polar:.4e} m⁴ is {:.3e} times A² for area {a:e} m²: a thin tube would need a radius {:.1e} times its wall thickness (Ip/A² = R/(2πt)), beyond any structure's {MOST_POLAR_PER_AREA_SQUARED:e}: check the units of area_m2, iy_m4 and iz_m4 (mm⁴ as m⁴?)",
+                polar / (a * a),
+                2.0 * std::f64::consts::PI * polar / (a * a)
+            ),
+        ));
+    }
     if j > polar * (1.0 + 1e-9) {
         return Err(loc.err(
             &k("j_m4"),
@@ -543,6 +556,11 @@ fn check_general_section(
     }
     Ok(())
 }
+
+/// Largest Iy + Iz over A² of a general section: a tube of radius 63 000 times its wall
+/// (R/(2πt)); thin-walled launcher structures stay below 200 (R/t ≈ 1000), rolled and built-up
+/// sections below 10.
+const MOST_POLAR_PER_AREA_SQUARED: f64 = 1e4;
 
 /// Beyond every plausible range of a model quantity; above it a product of two overflows.
 const HUGE: f64 = 1e30;
