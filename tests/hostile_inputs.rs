@@ -60,6 +60,12 @@ refused_input_cases! {
     error: |from, to| scene_error(&paper_stack(), from, to);
     fitting_factor_of_1_7e308: "fitting_factor = 1.15" => "fitting_factor = 1.7e308",
         contains ["key `margins.fitting_factor`", "plausible range [1e0, 1e1]"];
+    // A stack typed in millimetres: its pitch (550 for 0.55 m) is past any fairing, and its
+    // bar diameter (20 for 0.020 m) past any guide bar.
+    stack_pitch_in_millimetres: "satellite_pitch_m = 0.55" => "satellite_pitch_m = 550",
+        contains ["key `stack.satellite_pitch_m`", "plausible range [1e-9, 1e1] m"];
+    stack_bar_diameter_in_millimetres: "bar_diameter_m = 0.020" => "bar_diameter_m = 20",
+        contains ["key `stack.bar_diameter_m`", "plausible range [1e-9, 2e0] m"];
     stack_with_huge_column_elements: "column_elements = 1" => "column_elements = 100000",
         contains ["key `stack.column_elements`", "4800000 in the columns", "limit of 200000"];
     // The count-or-word keys say what they take and what they got.

@@ -276,9 +276,10 @@ refused_input_cases! {
         contains ["stack.bar_length_m", "shorter than the stack"];
     bar_wider_than_the_bore: "bar_diameter_m = 0.020" => "bar_diameter_m = 0.030",
         contains ["stack.bar_diameter_m", "does not fit"];
-    // Diameters typed in millimetres: the columns would overlap each other.
-    column_wider_than_its_spacing: "column_outer_diameter_m = 0.050" => "column_outer_diameter_m = 50.0",
-        contains ["stack.column_outer_diameter_m", "columns of 50 m outer diameter overlap"];
+    // Columns wider than their 0.9 m spacing would overlap each other (a diameter typed in
+    // millimetres is refused before, by its plausible range: tests/hostile_inputs.rs).
+    column_wider_than_its_spacing: "column_outer_diameter_m = 0.050" => "column_outer_diameter_m = 1.5",
+        contains ["stack.column_outer_diameter_m", "columns of 1.5 m outer diameter overlap"];
     shear_key_of_an_unknown_material: "material = \"al7075-t6\", shear_area" => "material = \"ti\", shear_area",
         contains ["stack.interface.shear_key.material", "material `ti` is not defined"];
     shear_key_with_a_zero_area: "shear_area_m2 = 6.715e-4" => "shear_area_m2 = 0.0",

@@ -79,6 +79,11 @@ pub const CONTACT_FRICTION: Range = range(1e-3, 2.0, "", true);
 /// A sampling rate: one sample in 11.6 days up to 1 GHz (far beyond any accelerometer or
 /// shock recorder). The signal readers hold every rate to it, whatever stated it.
 pub const SAMPLING_RATE_HZ: Range = range(1e-6, 1e9, "Hz", false);
+/// A satellite's size in a stack (its pitch, the spacing of its columns): the widest launcher
+/// fairing is 9 m across. A stack typed in millimetres reads 500 m here.
+pub const SATELLITE_SIZE_M: Range = range(1e-9, 10.0, "m", false);
+/// A column or guide-bar diameter of a stack.
+pub const STACK_DIAMETER_M: Range = range(1e-9, 2.0, "m", false);
 /// A length of the `[stack]`: a kilometre-high stack is beyond any launcher (a 200-satellite
 /// stack's bars are 110 m); a 100 km bar made a release take 46 s to simulate nothing.
 pub const STACK_LENGTH_M: Range = range(1e-9, 1e3, "m", false);

@@ -303,6 +303,10 @@ impl StackSpec {
                 super::plausible::STIFFNESS
             } else if key.ends_with("_kg") {
                 super::plausible::MASS_KG
+            } else if key.ends_with("diameter_m") {
+                super::plausible::STACK_DIAMETER_M
+            } else if key == "satellite_pitch_m" || key == "column_spacing_m" {
+                super::plausible::SATELLITE_SIZE_M
             } else {
                 super::plausible::STACK_LENGTH_M
             };
