@@ -552,6 +552,33 @@ mod tests {
         (k, exact)
     }
 
+    /// A request: the band's top frequency and/or the number of lowest modes.
+    type Ask = (Option<f64>, Option<usize>);
+
+    /// Solves (k, m) for every ask: as many modes as `exact` (ascending) holds below the top
+    /// (raised by `top_factor`) and the count asked, each within `tol` of its exact value.
+    fn assert_asks(
+        k: &SymCsc,
+        m: &SymCsc,
+        exact: &[f64],
+        asks: &[Ask],
+        (top_factor, tol): (f64, f64),
+        model: &str,
+    ) {
+        let two_pi = 2.0 * std::f64::consts::PI;
+        for &(fmax, modes) in asks {
+            let top = fmax.map(|f| (two_pi * f).powi(2) * top_factor);
+            let below = exact.iter().filter(|&&l| top.is_none_or(|t| l < t));
+            let want = below.count().min(modes.unwrap_or(usize::MAX));
+            let case = format!("{model}, fmax {fmax:?}, modes {modes:?}");
+            let (pairs, _) = eigen(k, m, fmax, modes).expect(&case);
+            assert_eq!(pairs.len(), want, "{case}");
+            for (p, l) in pairs.iter().zip(exact) {
+                assert!((p.0 - l).abs() <= tol, "{case}: {} vs {l}", p.0);
+            }
+        }
+    }
+
     /// Models smaller than a Lanczos basis, asked for a few modes, all of them, or a band:
     /// the count is the analytic one (a top on an eigenvalue takes it, EDGE_GAP) and every
     /// eigenvalue is within 1e-9 of λ_j = 4 sin²(jπ/(2(n+1))). Chains of 9–48 masses
@@ -564,32 +591,21 @@ mod tests {
             for n in [1, 2, 5, 9, 12, 23, 41, 48, 50, 64] {
                 let (k, exact) = chains(n, copies);
                 let m = identity(n * copies);
-                let mut asks: Vec<(Option<f64>, Option<usize>)> =
-                    [1, 3, 8, 24, 250].map(|w| (None, Some(w))).to_vec();
+                let mut asks: Vec<Ask> = [1, 3, 8, 24, 250].map(|w| (None, Some(w))).to_vec();
                 for l in [0.05, 1.0, 2.0, 3.9, 10.0] {
                     asks.push((Some(f64::sqrt(l) / two_pi), None));
                     asks.push((Some(f64::sqrt(l) / two_pi), Some(3)));
                 }
-                for (fmax, modes) in asks {
-                    let top = fmax.map(|f| (two_pi * f).powi(2) * (1.0 + EDGE_GAP));
-                    let below = exact.iter().filter(|&&l| top.is_none_or(|t| l < t));
-                    let want = below.count().min(modes.unwrap_or(usize::MAX));
-                    let case = format!("{copies} × {n} masses, fmax {fmax:?}, modes {modes:?}");
-                    let (pairs, _) = eigen(&k, &m, fmax, modes).expect(&case);
-                    assert_eq!(pairs.len(), want, "{case}");
-                    for (p, l) in pairs.iter().zip(&exact) {
-                        assert!((p.0 - l).abs() <= 1e-9, "{case}: {} vs {l}", p.0);
-                    }
-                }
+                let model = format!("{copies} × {n} masses");
+                assert_asks(&k, &m, &exact, &asks, (1.0 + EDGE_GAP, 1e-9), &model);
             }
         }
     }
 
     /// Chains of unequal masses (1–3 kg), anchored or free at both ends (one rigid-body
     /// mode), asked for a few modes, all, or bands holding 10%, 50% and 90% of the spectrum
-    /// (at least one flexible mode):
-    /// the count is the dense solver's and every eigenvalue is within 1e-9 of the spectrum's
-    /// top of its dense value.
+    /// (at least one flexible mode): the count is the dense solver's and every eigenvalue is
+    /// within 1e-9 of the spectrum's top of its dense value.
     #[test]
     fn anchored_and_free_chains_of_unequal_masses_agree_with_the_dense_solver() {
         let two_pi = 2.0 * std::f64::consts::PI;
@@ -610,23 +626,13 @@ mod tests {
                 )
                 .unwrap();
                 let scale = exact[n - 1];
-                let mut asks: Vec<(Option<f64>, Option<usize>)> =
-                    [1, 8, 250].map(|w| (None, Some(w))).to_vec();
+                let mut asks: Vec<Ask> = [1, 8, 250].map(|w| (None, Some(w))).to_vec();
                 for q in [0.1, 0.5, 0.9] {
                     let l = exact[((n as f64 * q) as usize).max(1)] * 1.0001;
                     asks.push((Some(l.max(0.0).sqrt() / two_pi), None));
                 }
-                for (fmax, modes) in asks {
-                    let top = fmax.map(|f| (two_pi * f).powi(2));
-                    let below = exact.iter().filter(|&&l| top.is_none_or(|t| l < t));
-                    let want = below.count().min(modes.unwrap_or(usize::MAX));
-                    let case = format!("free {free}, {n} masses, fmax {fmax:?}, modes {modes:?}");
-                    let (pairs, _) = eigen(&k, &m, fmax, modes).expect(&case);
-                    assert_eq!(pairs.len(), want, "{case}");
-                    for (p, l) in pairs.iter().zip(&exact) {
-                        assert!((p.0 - l).abs() <= 1e-9 * scale, "{case}: {} vs {l}", p.0);
-                    }
-                }
+                let model = format!("free {free}, {n} masses");
+                assert_asks(&k, &m, &exact, &asks, (1.0, 1e-9 * scale), &model);
             }
         }
     }

@@ -22,16 +22,7 @@ fn field<T: std::str::FromStr>(
     k: usize,
     what: &str,
 ) -> Result<T, SignalError> {
-    let t = tokens
-        .get(k)
-        .ok_or_else(|| err(file, line, format!("missing field {} ({what})", k + 1)))?;
-    t.parse::<T>().map_err(|_| {
-        err(
-            file,
-            line,
-            format!("field {} ({what}): cannot parse `{t}`", k + 1),
-        )
-    })
+    field_with(file, line, (tokens, k, what), |t| t.parse().ok())
 }
 
 /// A real field as Fortran writes it (a `D` exponent, or an exponent of three digits whose
@@ -43,10 +34,20 @@ fn real_field(
     k: usize,
     what: &str,
 ) -> Result<f64, SignalError> {
+    field_with(file, line, (tokens, k, what), super::fortran::number)
+}
+
+/// Field `k` (named `what`) of a header line, read by `parse`.
+fn field_with<T>(
+    file: &Path,
+    line: u64,
+    (tokens, k, what): (&[&str], usize, &str),
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<T, SignalError> {
     let t = tokens
         .get(k)
         .ok_or_else(|| err(file, line, format!("missing field {} ({what})", k + 1)))?;
-    super::fortran::number(t).ok_or_else(|| {
+    parse(t).ok_or_else(|| {
         err(
             file,
             line,
