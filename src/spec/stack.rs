@@ -295,39 +295,55 @@ impl StackSpec {
             ));
         }
         // Positive, then plausible: a 1e-300 m bar makes every stiffness matrix singular.
-        let pos = |key: &str, v: f64| -> Result<(), SpecError> {
+        use super::plausible::{
+            MASS_KG, SATELLITE_SIZE_M, STACK_DIAMETER_M, STACK_LENGTH_M, STIFFNESS,
+        };
+        let i = &self.interface;
+        for (key, v, range) in [
+            ("satellite_mass_kg", self.satellite_mass_kg, MASS_KG),
+            (
+                "satellite_pitch_m",
+                self.satellite_pitch_m,
+                SATELLITE_SIZE_M,
+            ),
+            (
+                "column_spacing_m",
+                self.column_spacing_m[0],
+                SATELLITE_SIZE_M,
+            ),
+            (
+                "column_spacing_m",
+                self.column_spacing_m[1],
+                SATELLITE_SIZE_M,
+            ),
+            (
+                "column_outer_diameter_m",
+                self.column_outer_diameter_m,
+                STACK_DIAMETER_M,
+            ),
+            (
+                "column_inner_diameter_m",
+                self.column_inner_diameter_m,
+                STACK_DIAMETER_M,
+            ),
+            ("bar_diameter_m", self.bar_diameter_m, STACK_DIAMETER_M),
+            ("bar_length_m", self.bar_length_m, STACK_LENGTH_M),
+            (
+                "interface.axial_stiffness_n_m",
+                i.axial_stiffness_n_m,
+                STIFFNESS,
+            ),
+            (
+                "device_axial_stiffness_n_m",
+                self.device_axial_stiffness_n_m,
+                STIFFNESS,
+            ),
+        ] {
             if v.is_nan() || v <= 0.0 {
                 return Err(loc.err(&k(key), format!("must be positive, got {v}")));
             }
-            let range = if key.contains("stiffness") {
-                super::plausible::STIFFNESS
-            } else if key.ends_with("_kg") {
-                super::plausible::MASS_KG
-            } else if key.ends_with("diameter_m") {
-                super::plausible::STACK_DIAMETER_M
-            } else if key == "satellite_pitch_m" || key == "column_spacing_m" {
-                super::plausible::SATELLITE_SIZE_M
-            } else {
-                super::plausible::STACK_LENGTH_M
-            };
-            super::plausible::check(loc, &k(key), v, range)
-        };
-        pos("satellite_mass_kg", self.satellite_mass_kg)?;
-        pos("satellite_pitch_m", self.satellite_pitch_m)?;
-        pos("column_spacing_m", self.column_spacing_m[0])?;
-        pos("column_spacing_m", self.column_spacing_m[1])?;
-        pos("column_outer_diameter_m", self.column_outer_diameter_m)?;
-        pos("column_inner_diameter_m", self.column_inner_diameter_m)?;
-        pos("bar_diameter_m", self.bar_diameter_m)?;
-        pos("bar_length_m", self.bar_length_m)?;
-        pos(
-            "interface.axial_stiffness_n_m",
-            self.interface.axial_stiffness_n_m,
-        )?;
-        pos(
-            "device_axial_stiffness_n_m",
-            self.device_axial_stiffness_n_m,
-        )?;
+            super::plausible::check(loc, &k(key), v, range)?;
+        }
         for (key, v) in [
             (
                 "interface.shear_stiffness_n_m",

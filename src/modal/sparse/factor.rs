@@ -388,9 +388,9 @@ const ACCURATE_TRIES: usize = 6;
 /// ([`SOLVE_BACKWARD_TOL`]): LDLᵀ without pivoting grows without bound when a pivot is tiny,
 /// which a shift that is not near any eigenvalue of the pencil can still meet (a shift equal
 /// to K_ii/M_ii, say). The shift then moves down by 1e-8, 1e-7, … relative (every caller's
-/// shift sits just below what it aims at); the Sturm count holds at the σ' returned. If none passes, the least inaccurate
-/// factor is returned: the eigenpairs are checked against K and M afterwards, so an
-/// iteration on it fails loudly rather than silently.
+/// shift sits just below what it aims at); the Sturm count holds at the σ' returned. If
+/// none passes, the least inaccurate factor is returned: the eigenpairs are checked against
+/// K and M afterwards, so an iteration on it fails loudly rather than silently.
 pub(super) fn accurate_factor<'a>(
     pencil: &'a Pencil,
     fac: Factor<'a>,
@@ -575,8 +575,9 @@ mod tests {
     /// A shift a hair off K_ii/M_ii of a 48-mass chain (σ = 2 + 2e-15, between two
     /// eigenvalues 0.064 apart, where a band's first shift landed) leaves every other pivot
     /// of LDLᵀ without pivoting at 2e-15, each one exact relative to its own diagonal entry,
-    /// and the factor solves nothing (backward error ≫ SOLVE_BACKWARD_TOL). The accurate factor moves below it, solves to
-    /// the tolerance, and its count is the analytic 24 below 2 (λ_24 = 1.936, λ_25 = 2.064).
+    /// and the factor solves nothing (backward error ≫ SOLVE_BACKWARD_TOL). The accurate
+    /// factor moves below it, solves to the tolerance, and its count is the analytic 24
+    /// below 2 (λ_24 = 1.936, λ_25 = 2.064).
     #[test]
     fn a_shift_whose_factor_grows_moves_to_one_that_solves() {
         let n = 48;

@@ -30,7 +30,7 @@ pub mod unit;
 
 use crate::error::SignalError;
 pub use bandlimit::AntiAliasReport;
-pub use plausible_rate::{PLAUSIBLE_FS_HZ, plausible_rate};
+pub use plausible_rate::plausible_rate;
 use sniff::{Delimiter, Dialect};
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -939,15 +939,14 @@ pub(crate) fn electrical_notes(channels: &[ChannelInfo], opts: &IngestOptions) -
     let named = |c: &ChannelInfo| opts.channel_units.iter().any(|(n, _)| *n == c.name);
     channels
         .iter()
-        .filter(|c| unit::is_electrical(&c.stated_label))
-        .filter_map(|c| match (c.unit, opts.default_unit) {
-            (Unit::AsIs, Some(default)) if !named(c) => {
-                Some(unit::electrical_note(&c.name, &c.stated_label, default))
-            }
-            (u, _) if u != Unit::AsIs && named(c) => {
-                Some(unit::volts_read_as_note(&c.name, &c.stated_label, u))
-            }
-            _ => None,
+        .filter_map(|c| {
+            unit::volts_note(
+                &c.name,
+                &c.stated_label,
+                c.unit,
+                named(c),
+                opts.default_unit,
+            )
         })
         .collect()
 }

@@ -5,18 +5,15 @@
 use crate::error::SignalError;
 use std::path::Path;
 
-/// Hz: the scenes' range ([`crate::spec::plausible::SAMPLING_RATE_HZ`]).
-pub const PLAUSIBLE_FS_HZ: (f64, f64) = (
-    crate::spec::plausible::SAMPLING_RATE_HZ.lo,
-    crate::spec::plausible::SAMPLING_RATE_HZ.hi,
-);
-
-/// `fs` when it is a plausible sampling rate, else an error naming the file and what gave it.
+/// `fs` when it is a plausible sampling rate (the scenes' range,
+/// [`crate::spec::plausible::SAMPLING_RATE_HZ`]), else an error naming the file and what gave
+/// it.
 pub fn plausible_rate(file: &Path, fs: f64, source: &str) -> Result<f64, SignalError> {
-    let (lo, hi) = PLAUSIBLE_FS_HZ;
-    if fs.is_finite() && (lo..=hi).contains(&fs) {
+    let range = crate::spec::plausible::SAMPLING_RATE_HZ;
+    if range.admits(fs) {
         return Ok(fs);
     }
+    let (lo, hi) = (range.lo, range.hi);
     Err(SignalError::Unsupported {
         file: file.to_path_buf(),
         message: format!(

@@ -104,9 +104,29 @@ pub fn is_electrical(label: &str) -> bool {
     volts.contains(&n.as_str())
 }
 
+/// The note, if any, for a channel its file states in `label`: when that is an electrical
+/// unit, either kept in it (`read_as` as-is) while `--units` gives one unit (`default`) for
+/// every channel, or read as the acceleration `--units NAME=UNIT` `named` it.
+pub fn volts_note(
+    channel: &str,
+    label: &str,
+    read_as: Unit,
+    named: bool,
+    default: Option<Unit>,
+) -> Option<String> {
+    if !is_electrical(label) {
+        return None;
+    }
+    match (read_as, named, default) {
+        (Unit::AsIs, false, Some(d)) => Some(electrical_note(channel, label, d)),
+        (u, true, _) if u != Unit::AsIs => Some(volts_read_as_note(channel, label, u)),
+        _ => None,
+    }
+}
+
 /// The note for a channel kept in the electrical unit its file states while `--units` gives
 /// one unit for every channel.
-pub fn electrical_note(channel: &str, label: &str, default: Unit) -> String {
+fn electrical_note(channel: &str, label: &str, default: Unit) -> String {
     let unit = default.label();
     format!(
         "channel `{channel}` is in {label} as the file states, an electrical unit: kept in \
@@ -118,7 +138,7 @@ pub fn electrical_note(channel: &str, label: &str, default: Unit) -> String {
 /// The note for a channel the file states in volts that `--units NAME=UNIT` reads as an
 /// acceleration: its values are taken unchanged, i.e. at a sensitivity of one volt-unit per
 /// UNIT, which only the user can vouch for.
-pub fn volts_read_as_note(channel: &str, label: &str, unit: Unit) -> String {
+fn volts_read_as_note(channel: &str, label: &str, unit: Unit) -> String {
     let u = unit.label();
     format!(
         "channel `{channel}` is in {label} as the file states; --units \"{channel}={u}\" reads \

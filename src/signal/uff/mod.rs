@@ -699,18 +699,19 @@ pub(crate) fn electrical_notes(
     named: &[(&String, &UffRecord)],
     ingest: &crate::signal::ingest::IngestOptions,
 ) -> Vec<String> {
-    use crate::signal::ingest::Unit;
-    use crate::signal::ingest::unit::{electrical_note, is_electrical, volts_read_as_note};
     named
         .iter()
-        .filter(|(_, r)| is_electrical(&r.ordinate_label))
         .filter_map(|(name, r)| {
             let label = &r.ordinate_label;
-            match ingest.channel_units.iter().find(|(n, _)| n == *name) {
-                Some((_, u)) if *u != Unit::AsIs => Some(volts_read_as_note(name, label, *u)),
-                Some(_) => None,
-                None => ingest.default_unit.map(|d| electrical_note(name, label, d)),
-            }
+            let read_as = ordinate_unit(label, ingest, name);
+            let is_named = ingest.channel_units.iter().any(|(n, _)| n == *name);
+            crate::signal::ingest::unit::volts_note(
+                name,
+                label,
+                read_as,
+                is_named,
+                ingest.default_unit,
+            )
         })
         .collect()
 }
